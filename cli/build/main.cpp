@@ -1,0 +1,59 @@
+// roadcross-build: OSM extract (+ elevation, later) -> roadcross GeoPackage.
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <iostream>
+
+#include "roadcross/preprocess/build.hpp"
+#include "roadcross/preprocess/errors.hpp"
+#include "roadcross/preprocess/progress.hpp"
+#include "roadcross/version.hpp"
+
+namespace rp = roadcross::preprocess;
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "roadcross-build: turn an OpenStreetMap extract into a roadcross GeoPackage of short road\n"
+      "segments with crossing cost terms, for the roadcross runtime.\n\n"
+      "Example:\n  roadcross-build --osm maps/prague/prague_nove_mesto_roads_2017.osm -o prague.gpkg\n",
+      "roadcross-build"};
+  app.set_version_flag("--version", std::string("roadcross-build ") + roadcross::kVersion);
+  rp::BuildOptions options;
+  bool quiet = false;
+  app.add_option("--osm", options.osm_path, "OSM input: .osm, .osm.gz, .osm.bz2 or .osm.pbf")
+      ->required();
+  app.add_option("-o,--output", options.output_path, "output GeoPackage (.gpkg); replaced atomically")
+      ->required();
+  // Every model parameter is also a flag: --segments.max_segment_length_m 8
+  for (const rp::ParameterSpec& spec : options.parameters.specs()) {
+    app.add_option("--" + spec.key(), *spec.value, spec.description)
+        ->capture_default_str()
+        ->group("Model parameters");
+  }
+  app.add_flag("-q,--quiet", quiet, "no progress output");
+  CLI11_PARSE(app, argc, argv);
+
+  options.show_progress = !quiet && rp::Progress::stderr_is_terminal();
+  options.tool_version = roadcross::kVersion;
+  try {
+    const rp::BuildSummary s = rp::run_build(options);
+    if (!quiet) {
+      std::printf("%s: %llu segments (%.1f km) from %llu road ways, %llu junctions, UTM zone %d%s, %.2f s\n",
+                  options.output_path.c_str(), static_cast<unsigned long long>(s.segments),
+                  s.total_length_m / 1000.0, static_cast<unsigned long long>(s.road_ways),
+                  static_cast<unsigned long long>(s.junctions), s.zone.zone,
+                  s.zone.northern ? "N" : "S", s.seconds);
+      if (s.missing_node_refs > 0) {
+        std::printf("note: %llu node references of road ways were not in the file (cut by the extract)\n",
+                    static_cast<unsigned long long>(s.missing_node_refs));
+      }
+    }
+    return 0;
+  } catch (const rp::ParameterError& e) {
+    std::cerr << "roadcross-build: invalid parameter: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "roadcross-build: error: " << e.what() << "\n";
+    return 1;
+  }
+}

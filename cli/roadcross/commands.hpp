@@ -1,0 +1,56 @@
+// One class per subcommand of `roadcross`, each owning its options (osmium-tool style).
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+
+#include "position_options.hpp"
+
+namespace roadcross::cli {
+
+class Command {
+ public:
+  virtual ~Command() = default;
+  /// Runs after parsing; returns the process exit code.
+  virtual int run() = 0;
+  CLI::App* app() const noexcept { return app_; }
+
+ protected:
+  CLI::App* app_ = nullptr;
+};
+
+/// roadcross info DB: zone, counts, extent, parameters and inputs.
+class InfoCommand : public Command {
+ public:
+  explicit InfoCommand(CLI::App& parent);
+  int run() override;
+
+ private:
+  std::string db_path_;
+  bool json_ = false;
+};
+
+/// roadcross nearest: the nearest road segment and point on its centreline.
+class NearestCommand : public Command {
+ public:
+  explicit NearestCommand(CLI::App& parent);
+  int run() override;
+
+ private:
+  QueryOptions query_;
+  double max_distance_m_ = 1000.0;
+};
+
+/// roadcross heading: the road's direction and the heading that crosses it.
+class HeadingCommand : public Command {
+ public:
+  explicit HeadingCommand(CLI::App& parent);
+  int run() override;
+
+ private:
+  QueryOptions query_;
+  double max_distance_m_ = 1000.0;
+};
+
+}  // namespace roadcross::cli

@@ -1,0 +1,51 @@
+#include <cstdio>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+
+namespace roadcross::cli {
+
+InfoCommand::InfoCommand(CLI::App& parent) {
+  app_ = parent.add_subcommand("info", "show a map's UTM zone, extent, segment count, parameters and inputs");
+  app_->add_option("db", db_path_, "roadcross GeoPackage")->required();
+  app_->add_flag("--json", json_, "print JSON instead of text");
+}
+
+int InfoCommand::run() {
+  const std::optional<Map> map = open_map_or_report(db_path_);
+  if (!map) return 1;
+  const MapInfo& info = map->info();
+  if (json_) {
+    nlohmann::ordered_json out;
+    out["path"] = info.path;
+    out["schema_version"] = info.schema_version;
+    out["tool_version"] = info.tool_version;
+    out["utm_zone"] = info.zone.zone;
+    out["utm_northern"] = info.zone.northern;
+    out["epsg"] = info.epsg;
+    out["segment_count"] = info.segment_count;
+    out["extent_utm_m"] = {info.min_easting_m, info.min_northing_m, info.max_easting_m,
+                           info.max_northing_m};
+    nlohmann::ordered_json metadata = nlohmann::ordered_json::object();
+    for (const auto& [key, value] : info.metadata) metadata[key] = value;
+    out["metadata"] = metadata;
+    std::cout << out.dump(2) << "\n";
+    return 0;
+  }
+  std::printf("file            %s\n", info.path.c_str());
+  std::printf("schema version  %d (written by roadcross-build %s)\n", info.schema_version,
+              info.tool_version.c_str());
+  std::printf("CRS             WGS 84 / UTM zone %d%s (EPSG:%d)\n", info.zone.zone,
+              info.zone.northern ? "N" : "S", info.epsg);
+  std::printf("segments        %lld\n", static_cast<long long>(info.segment_count));
+  std::printf("extent          E %.1f .. %.1f, N %.1f .. %.1f (%.2f x %.2f km)\n", info.min_easting_m,
+              info.max_easting_m, info.min_northing_m, info.max_northing_m,
+              (info.max_easting_m - info.min_easting_m) / 1000.0,
+              (info.max_northing_m - info.min_northing_m) / 1000.0);
+  std::printf("metadata\n");
+  for (const auto& [key, value] : info.metadata) std::printf("  %-28s %s\n", key.c_str(), value.c_str());
+  return 0;
+}
+
+}  // namespace roadcross::cli

@@ -1,0 +1,29 @@
+// roadcross: query a roadcross map before or during a mission.
+#include <CLI/CLI.hpp>
+
+#include <memory>
+#include <vector>
+
+#include "commands.hpp"
+#include "roadcross/version.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "roadcross: ask a roadcross map where and how to cross a road.\n\n"
+      "Examples:\n"
+      "  roadcross info prague.gpkg\n"
+      "  roadcross nearest --db prague.gpkg --lat 50.0755 --lon 14.4186\n"
+      "  roadcross heading --db prague.gpkg --utm 458803 5546712 --json\n",
+      "roadcross"};
+  app.set_version_flag("--version", std::string("roadcross ") + roadcross::kVersion);
+  app.require_subcommand(1);
+  std::vector<std::unique_ptr<roadcross::cli::Command>> commands;
+  commands.push_back(std::make_unique<roadcross::cli::InfoCommand>(app));
+  commands.push_back(std::make_unique<roadcross::cli::NearestCommand>(app));
+  commands.push_back(std::make_unique<roadcross::cli::HeadingCommand>(app));
+  CLI11_PARSE(app, argc, argv);
+  for (const auto& command : commands) {
+    if (command->app()->parsed()) return command->run();
+  }
+  return 1;
+}

@@ -1,0 +1,30 @@
+// Options shared by the query subcommands: the DB and one position.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "roadcross/runtime.hpp"
+
+namespace roadcross::cli {
+
+struct QueryOptions {
+  std::string db_path;
+  std::optional<double> lat_deg;
+  std::optional<double> lon_deg;
+  std::vector<double> utm;  ///< easting_m northing_m
+  bool json = false;
+
+  /// Adds --db, --lat, --lon, --utm and --json to `command`.
+  void add_to(CLI::App& command);
+  /// The position given on the command line (CLI11 already ensured exactly one form).
+  Position position() const;
+};
+
+/// Opens the DB or prints the runtime's message and returns nullopt.
+std::optional<Map> open_map_or_report(const std::string& path);
+
+}  // namespace roadcross::cli

@@ -1,0 +1,89 @@
+#include <cstdio>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+
+namespace roadcross::cli {
+namespace {
+
+nlohmann::ordered_json road_json(const NearestRoad& road) {
+  nlohmann::ordered_json out;
+  out["segment_id"] = road.segment_id;
+  out["osm_way_id"] = road.osm_way_id;
+  out["highway"] = road.highway;
+  out["name"] = road.name;
+  out["distance_m"] = road.distance_m;
+  out["query_utm_m"] = {road.query.easting_m, road.query.northing_m};
+  out["closest_utm_m"] = {road.closest.easting_m, road.closest.northing_m};
+  return out;
+}
+
+std::string road_label(const NearestRoad& road) {
+  const std::string name = road.name.empty() ? "(unnamed)" : road.name;
+  return name + " (" + road.highway + ", OSM way " + std::to_string(road.osm_way_id) + ", segment " +
+         std::to_string(road.segment_id) + ")";
+}
+
+int report_error(const Status& status) {
+  std::cerr << "roadcross: " << status.message << "\n";
+  return 1;
+}
+
+}  // namespace
+
+NearestCommand::NearestCommand(CLI::App& parent) {
+  app_ = parent.add_subcommand("nearest", "the road centreline nearest to a position");
+  query_.add_to(*app_);
+  app_->add_option("--max-distance", max_distance_m_, "search radius, metres")->capture_default_str();
+}
+
+int NearestCommand::run() {
+  std::optional<Map> map = open_map_or_report(query_.db_path);
+  if (!map) return 1;
+  const Result<NearestRoad> road = map->nearest(query_.position(), max_distance_m_);
+  if (!road.ok()) return report_error(road.status);
+  if (query_.json) {
+    std::cout << road_json(*road).dump(2) << "\n";
+    return 0;
+  }
+  std::printf("road      %s\n", road_label(*road).c_str());
+  std::printf("distance  %.2f m\n", road->distance_m);
+  std::printf("closest   E %.2f N %.2f (UTM zone %d%s)\n", road->closest.easting_m,
+              road->closest.northing_m, map->info().zone.zone, map->info().zone.northern ? "N" : "S");
+  return 0;
+}
+
+HeadingCommand::HeadingCommand(CLI::App& parent) {
+  app_ = parent.add_subcommand("heading", "the road's direction and the heading that crosses it");
+  query_.add_to(*app_);
+  app_->add_option("--max-distance", max_distance_m_, "search radius, metres")->capture_default_str();
+}
+
+int HeadingCommand::run() {
+  std::optional<Map> map = open_map_or_report(query_.db_path);
+  if (!map) return 1;
+  const Result<RoadHeading> heading = map->road_heading(query_.position(), max_distance_m_);
+  if (!heading.ok()) return report_error(heading.status);
+  if (query_.json) {
+    nlohmann::ordered_json out = road_json(heading->road);
+    out["road_heading_rad"] = heading->road_heading_rad;
+    out["road_bearing_deg"] = heading->road_bearing_deg;
+    out["crossing_heading_rad"] = heading->crossing_heading_rad;
+    out["crossing_bearing_deg"] = heading->crossing_bearing_deg;
+    out["convergence_rad"] = heading->convergence_rad;
+    out["on_centreline"] = heading->on_centreline;
+    std::cout << out.dump(2) << "\n";
+    return 0;
+  }
+  std::printf("road      %s, %.2f m away\n", road_label(heading->road).c_str(), heading->road.distance_m);
+  std::printf("road      yaw %+.4f rad ENU (bearing %5.1f deg)\n", heading->road_heading_rad,
+              heading->road_bearing_deg);
+  std::printf("cross     yaw %+.4f rad ENU (bearing %5.1f deg)%s\n", heading->crossing_heading_rad,
+              heading->crossing_bearing_deg,
+              heading->on_centreline ? ", on the centreline: side unknown" : ", from this side across");
+  std::printf("frame     UTM grid; add %+.5f rad for a yaw from true east\n", heading->convergence_rad);
+  return 0;
+}
+
+}  // namespace roadcross::cli

@@ -1,0 +1,37 @@
+// roadcross-build as a library call: OSM (+ later elevation) in, one GeoPackage out.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "roadcross/geo.hpp"
+#include "roadcross/preprocess/parameters.hpp"
+
+namespace roadcross::preprocess {
+
+struct BuildOptions {
+  std::string osm_path;
+  std::string output_path;
+  Parameters parameters;
+  bool show_progress = false;
+  std::string tool_version;
+};
+
+struct BuildSummary {
+  geo::UtmZone zone;
+  std::uint64_t road_ways = 0;
+  std::uint64_t pieces = 0;
+  std::uint64_t segments = 0;
+  std::uint64_t junctions = 0;
+  double total_length_m = 0.0;
+  std::uint64_t missing_node_refs = 0;
+  double seconds = 0.0;
+};
+
+/// Runs the whole build. The output appears only when everything succeeded: on any exception
+/// (InputError, ParameterError, OutputError) no file is left at `output_path`.
+BuildSummary run_build(const BuildOptions& options);
+
+}  // namespace roadcross::preprocess

@@ -1,0 +1,48 @@
+// Every tunable of the build, in one self-validating structure (OSRM-style config structs).
+// Each section lists its parameters once, as ParameterSpecs; the CLI flags, the parameter file,
+// validation, --print-config and the DB metadata are all derived from those lists, so a new
+// parameter is one field plus one line.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace roadcross::preprocess {
+
+struct ParameterSpec {
+  std::string section;      ///< "segments", "geometry", "terrain", "context", "suitability"
+  std::string name;         ///< snake_case with its unit, e.g. "junction_distance_m"
+  double* value = nullptr;  ///< points into the owning Parameters object
+  double min = 0.0;         ///< inclusive range
+  double max = 0.0;
+  bool integer = false;     ///< must be a whole number
+  std::string description;  ///< one line: meaning, unit, source of the default
+
+  std::string key() const { return section + "." + name; }
+};
+
+/// Segmentation.
+struct SegmentParameters {
+  double max_segment_length_m = 10.0;
+  void describe(std::vector<ParameterSpec>& out);
+};
+
+struct Parameters {
+  SegmentParameters segments;
+  // Later sections (geometry, terrain, context, suitability) follow the same pattern.
+
+  /// All parameters, pointing into this object. Order is stable (it is the file order).
+  std::vector<ParameterSpec> specs();
+  std::vector<ParameterSpec> specs() const { return const_cast<Parameters*>(this)->specs(); }
+
+  /// Throws ParameterError naming the first parameter out of range (section.name).
+  void validate() const;
+  /// ("param.<section>.<name>", value) pairs for the DB metadata, in specs() order.
+  std::vector<std::pair<std::string, std::string>> as_metadata() const;
+};
+
+/// Formats a double in its shortest round-trip form ("10", "0.75", "1e-05").
+std::string format_number(double value);
+
+}  // namespace roadcross::preprocess

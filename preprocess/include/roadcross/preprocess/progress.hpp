@@ -1,0 +1,39 @@
+// Progress reporting on a terminal: one line per stage, updated in place. Silent when stderr is
+// not a terminal or when quiet, so logs and CI output stay clean.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <string>
+
+namespace roadcross::preprocess {
+
+class Progress {
+ public:
+  /// `enabled`: draw progress at all (false for --quiet or when stderr is not a TTY).
+  explicit Progress(bool enabled) : enabled_(enabled) {}
+  Progress(const Progress&) = delete;
+  Progress& operator=(const Progress&) = delete;
+  ~Progress();
+
+  /// True when stderr is a terminal.
+  static bool stderr_is_terminal() noexcept;
+
+  void start_stage(const std::string& name);
+  /// `done` of `total` units (bytes, objects, ...); total 0 = unknown. Cheap to call often: the
+  /// line is redrawn at most every 100 ms.
+  void update(std::uint64_t done, std::uint64_t total);
+  /// Ends the stage with a short summary, e.g. "4 812 segments".
+  void finish_stage(const std::string& summary);
+  bool enabled() const noexcept { return enabled_; }
+
+ private:
+  void draw(const std::string& line);
+  bool enabled_;
+  bool open_line_ = false;
+  std::string stage_;
+  std::chrono::steady_clock::time_point stage_start_;
+  std::chrono::steady_clock::time_point last_draw_;
+};
+
+}  // namespace roadcross::preprocess

@@ -1,0 +1,64 @@
+// Reading the road network from an OSM file: the ways of the kept road classes and the
+// locations of exactly the nodes they use.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace roadcross::preprocess {
+
+class Progress;
+
+using Tags = std::vector<std::pair<std::string, std::string>>;
+
+/// Value of `key` in `tags`, or empty when absent.
+std::string_view tag_value(const Tags& tags, std::string_view key) noexcept;
+
+/// highway=* values that are roads a robot may have to cross (DESIGN.md "Roads kept").
+/// motorway and trunk (and their links) are kept so that a robot near them is told it cannot
+/// cross; footways, cycleways, paths, steps, tracks and construction are not roads.
+bool is_kept_road_class(std::string_view highway) noexcept;
+
+struct RoadWay {
+  std::int64_t osm_id = 0;
+  std::string highway;
+  Tags tags;  ///< all tags of the way
+  std::vector<std::int64_t> node_ids;
+};
+
+struct NodeLocation {
+  std::int64_t osm_id = 0;
+  double lat_deg = 0.0;
+  double lon_deg = 0.0;
+};
+
+/// A node used by a road way that carries tags (crossings, signals, barriers, ...).
+struct TaggedNode {
+  std::int64_t osm_id = 0;
+  Tags tags;
+};
+
+struct RoadNetwork {
+  std::string source_path;
+  std::vector<RoadWay> ways;              ///< sorted by osm_id
+  std::vector<NodeLocation> locations;    ///< sorted by osm_id, only nodes used by `ways`
+  std::vector<TaggedNode> tagged_nodes;   ///< sorted by osm_id, only nodes used by `ways`
+  std::uint64_t ways_read = 0;            ///< all ways in the file
+  std::uint64_t nodes_read = 0;           ///< all nodes in the file
+  std::uint64_t missing_locations = 0;    ///< node references of road ways not in the file
+  std::int64_t newest_timestamp_s = 0;    ///< newest object timestamp (s since epoch), 0 if none
+
+  /// Location of a node, or nullptr when the file did not contain it.
+  const NodeLocation* find_location(std::int64_t node_id) const noexcept;
+};
+
+/// Reads an .osm, .osm.gz, .osm.bz2 or .osm.pbf file in two passes: road ways first, then only
+/// the node locations those ways use, so memory follows the road network and not the file.
+/// Throws InputError naming the file (and the line for XML) on missing, empty, truncated or
+/// malformed input, or when the file holds no road of a kept class.
+RoadNetwork read_road_network(const std::string& path, Progress& progress);
+
+}  // namespace roadcross::preprocess

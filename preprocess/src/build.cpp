@@ -1,0 +1,85 @@
+#include "roadcross/preprocess/build.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <ctime>
+
+#include "roadcross/preprocess/errors.hpp"
+#include "roadcross/preprocess/gpkg_writer.hpp"
+#include "roadcross/preprocess/progress.hpp"
+#include "roadcross/preprocess/road_network.hpp"
+#include "roadcross/preprocess/segments.hpp"
+#include "roadcross/preprocess/sha256.hpp"
+#include "roadcross/schema/schema.hpp"
+
+namespace roadcross::preprocess {
+
+namespace {
+
+std::string iso8601_utc(std::int64_t seconds_since_epoch) {
+  const std::time_t t = static_cast<std::time_t>(seconds_since_epoch);
+  std::tm utc{};
+  gmtime_r(&t, &utc);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%S.000Z", &utc);
+  return text;
+}
+
+std::string base_name(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+}  // namespace
+
+BuildSummary run_build(const BuildOptions& options) {
+  const auto started = std::chrono::steady_clock::now();
+  options.parameters.validate();
+  if (options.osm_path.empty()) throw ParameterError("an OSM input file is required (--osm)");
+  if (options.output_path.empty()) throw ParameterError("an output path is required (-o)");
+
+  // Create the temporary output first: an unwritable target fails before minutes of work.
+  AtomicOutput output(options.output_path);
+  Progress progress(options.show_progress);
+
+  const RoadNetwork network = read_road_network(options.osm_path, progress);
+  const std::string osm_sha256 = sha256_of_file(options.osm_path);
+
+  progress.start_stage("segmenting");
+  const geo::UtmZone zone = choose_utm_zone(network);
+  RoadGraph graph = build_road_graph(network, zone, options.parameters.segments.max_segment_length_m);
+  if (graph.segments.empty()) {
+    throw InputError(options.osm_path, "no road way has two nodes with locations in the file");
+  }
+  progress.finish_stage(std::to_string(graph.segments.size()) + " segments in UTM zone " +
+                        std::to_string(zone.zone) + (zone.northern ? "N" : "S"));
+
+  DatabaseContents contents;
+  contents.graph = &graph;
+  contents.last_change = iso8601_utc(network.newest_timestamp_s);
+  contents.metadata = options.parameters.as_metadata();
+  contents.metadata.emplace_back(schema::meta::kToolVersion, options.tool_version);
+  contents.metadata.emplace_back(schema::meta::kAttribution,
+                                 "Map data (c) OpenStreetMap contributors, ODbL 1.0");
+  // Inputs are recorded by file name and hash, not by absolute path, so that the same inputs
+  // give the same bytes wherever they are built.
+  const std::string input = std::string(schema::meta::kInputPrefix) + "0.";
+  contents.metadata.emplace_back(input + "kind", "osm");
+  contents.metadata.emplace_back(input + "file", base_name(options.osm_path));
+  contents.metadata.emplace_back(input + "sha256", osm_sha256);
+  write_geopackage(output.temp_path(), contents, progress);
+  output.commit();
+
+  BuildSummary summary;
+  summary.zone = zone;
+  summary.road_ways = network.ways.size();
+  summary.pieces = graph.pieces.size();
+  summary.segments = graph.segments.size();
+  for (const auto& [node, degree] : graph.degree) summary.junctions += degree >= 3 ? 1 : 0;
+  for (const Segment& s : graph.segments) summary.total_length_m += s.length_m;
+  summary.missing_node_refs = graph.dropped_node_refs;
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  return summary;
+}
+
+}  // namespace roadcross::preprocess

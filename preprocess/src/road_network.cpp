@@ -1,0 +1,185 @@
+#include "roadcross/preprocess/road_network.hpp"
+
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <cstring>
+#include <osmium/handler.hpp>
+#include <osmium/io/any_input.hpp>
+#include <osmium/visitor.hpp>
+
+#include "roadcross/preprocess/errors.hpp"
+#include "roadcross/preprocess/progress.hpp"
+
+namespace roadcross::preprocess {
+
+std::string_view tag_value(const Tags& tags, std::string_view key) noexcept {
+  for (const auto& [k, v] : tags) {
+    if (k == key) return v;
+  }
+  return {};
+}
+
+bool is_kept_road_class(std::string_view highway) noexcept {
+  static constexpr std::array<std::string_view, 16> kKept = {
+      "motorway",     "motorway_link", "trunk",        "trunk_link",  "primary",
+      "primary_link", "secondary",     "secondary_link", "tertiary",  "tertiary_link",
+      "unclassified", "residential",   "service",      "busway",      "road",
+      "living_street"};
+  return std::find(kKept.begin(), kKept.end(), highway) != kKept.end();
+}
+
+const NodeLocation* RoadNetwork::find_location(std::int64_t node_id) const noexcept {
+  auto it = std::lower_bound(locations.begin(), locations.end(), node_id,
+                             [](const NodeLocation& n, std::int64_t id) { return n.osm_id < id; });
+  return (it != locations.end() && it->osm_id == node_id) ? &*it : nullptr;
+}
+
+namespace {
+
+Tags copy_tags(const osmium::TagList& tags) {
+  Tags out;
+  out.reserve(tags.size());
+  for (const osmium::Tag& tag : tags) out.emplace_back(tag.key(), tag.value());
+  return out;
+}
+
+bool is_area(const osmium::TagList& tags) {
+  const char* area = tags["area"];
+  return area && std::strcmp(area, "yes") == 0;
+}
+
+/// Keys that make a node on a road interesting to later stages (crossings, signals, ...).
+bool has_interesting_tag(const osmium::TagList& tags) {
+  static constexpr std::array<const char*, 6> kKeys = {"highway", "crossing", "crossing_ref",
+                                                       "crossing:markings", "traffic_signals",
+                                                       "barrier"};
+  return std::any_of(kKeys.begin(), kKeys.end(), [&](const char* key) { return tags.has_key(key); });
+}
+
+class RoadWayCollector : public osmium::handler::Handler {
+ public:
+  explicit RoadWayCollector(RoadNetwork& network) : network_(network) {}
+
+  void way(const osmium::Way& way) {
+    ++network_.ways_read;
+    note_timestamp(way);
+    const char* highway = way.tags()["highway"];
+    if (!highway || !is_kept_road_class(highway) || is_area(way.tags())) return;
+    RoadWay road;
+    road.osm_id = way.id();
+    road.highway = highway;
+    road.tags = copy_tags(way.tags());
+    road.node_ids.reserve(way.nodes().size());
+    for (const osmium::NodeRef& ref : way.nodes()) road.node_ids.push_back(ref.ref());
+    network_.ways.push_back(std::move(road));
+  }
+
+  void note_timestamp(const osmium::OSMObject& object) {
+    network_.newest_timestamp_s =
+        std::max<std::int64_t>(network_.newest_timestamp_s, object.timestamp().seconds_since_epoch());
+  }
+
+ private:
+  RoadNetwork& network_;
+};
+
+class NodeLocationCollector : public osmium::handler::Handler {
+ public:
+  NodeLocationCollector(RoadNetwork& network, const std::vector<std::int64_t>& wanted_sorted)
+      : network_(network), wanted_(wanted_sorted) {}
+
+  void node(const osmium::Node& node) {
+    ++network_.nodes_read;
+    network_.newest_timestamp_s =
+        std::max<std::int64_t>(network_.newest_timestamp_s, node.timestamp().seconds_since_epoch());
+    if (!std::binary_search(wanted_.begin(), wanted_.end(), node.id())) return;
+    const osmium::Location location = node.location();
+    if (!location.valid()) return;  // deleted or invalid coordinates: treated as missing
+    network_.locations.push_back({node.id(), location.lat(), location.lon()});
+    if (!node.tags().empty() && has_interesting_tag(node.tags())) {
+      network_.tagged_nodes.push_back({node.id(), copy_tags(node.tags())});
+    }
+  }
+
+ private:
+  RoadNetwork& network_;
+  const std::vector<std::int64_t>& wanted_;
+};
+
+template <typename Handler>
+void read_pass(const std::string& path, osmium::osm_entity_bits::type entities, Handler& handler,
+               Progress& progress) {
+  osmium::io::Reader reader{osmium::io::File{path}, entities};
+  const std::uint64_t size = reader.file_size();
+  while (osmium::memory::Buffer buffer = reader.read()) {
+    osmium::apply(buffer, handler);
+    progress.update(reader.offset(), size);
+  }
+  reader.close();
+}
+
+void check_readable(const std::string& path) {
+  struct stat status {};
+  if (::stat(path.c_str(), &status) != 0) {
+    throw InputError(path, std::string("cannot open OSM file: ") + std::strerror(errno));
+  }
+  if (!S_ISREG(status.st_mode)) throw InputError(path, "not a regular file");
+  if (status.st_size == 0) throw InputError(path, "the OSM file is empty (0 bytes)");
+}
+
+template <typename T>
+void sort_by_id_unique(std::vector<T>& items) {
+  std::sort(items.begin(), items.end(), [](const T& a, const T& b) { return a.osm_id < b.osm_id; });
+  items.erase(std::unique(items.begin(), items.end(),
+                          [](const T& a, const T& b) { return a.osm_id == b.osm_id; }),
+              items.end());
+}
+
+}  // namespace
+
+RoadNetwork read_road_network(const std::string& path, Progress& progress) {
+  check_readable(path);
+  RoadNetwork network;
+  network.source_path = path;
+  try {
+    progress.start_stage("reading road ways");
+    RoadWayCollector ways(network);
+    read_pass(path, osmium::osm_entity_bits::way, ways, progress);
+    sort_by_id_unique(network.ways);
+    progress.finish_stage(std::to_string(network.ways.size()) + " road ways of " +
+                          std::to_string(network.ways_read) + " ways");
+
+    std::vector<std::int64_t> wanted;
+    for (const RoadWay& way : network.ways) wanted.insert(wanted.end(), way.node_ids.begin(), way.node_ids.end());
+    std::sort(wanted.begin(), wanted.end());
+    wanted.erase(std::unique(wanted.begin(), wanted.end()), wanted.end());
+
+    progress.start_stage("reading node locations");
+    NodeLocationCollector nodes(network, wanted);
+    read_pass(path, osmium::osm_entity_bits::node, nodes, progress);
+    sort_by_id_unique(network.locations);
+    sort_by_id_unique(network.tagged_nodes);
+    network.missing_locations = wanted.size() - network.locations.size();
+    progress.finish_stage(std::to_string(network.locations.size()) + " road nodes of " +
+                          std::to_string(network.nodes_read) + " nodes");
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    // libosmium's XML errors already say "XML parsing error at line L, column C: ...".
+    throw InputError(path, std::string("not readable as OSM data: ") + e.what());
+  }
+  if (network.ways_read == 0 && network.nodes_read == 0) {
+    throw InputError(path, "contains no OSM nodes or ways (is it an OSM file?)");
+  }
+  if (network.ways.empty()) {
+    throw InputError(path, "contains " + std::to_string(network.ways_read) +
+                               " ways but none is a road of a kept class (highway=primary, "
+                               "secondary, tertiary, residential, service, ...)");
+  }
+  return network;
+}
+
+}  // namespace roadcross::preprocess

@@ -1,0 +1,191 @@
+#include "roadcross/preprocess/segments.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "roadcross/preprocess/road_network.hpp"
+
+namespace roadcross::preprocess {
+
+double polyline_length_m(const std::vector<PlanePoint>& points) noexcept {
+  double length = 0.0;
+  for (std::size_t i = 1; i < points.size(); ++i) {
+    length += std::hypot(points[i].x - points[i - 1].x, points[i].y - points[i - 1].y);
+  }
+  return length;
+}
+
+geo::UtmZone choose_utm_zone(const RoadNetwork& network) {
+  double min_lat = std::numeric_limits<double>::infinity(), max_lat = -min_lat;
+  double min_lon = min_lat, max_lon = -min_lat;
+  for (const NodeLocation& n : network.locations) {
+    min_lat = std::min(min_lat, n.lat_deg);
+    max_lat = std::max(max_lat, n.lat_deg);
+    min_lon = std::min(min_lon, n.lon_deg);
+    max_lon = std::max(max_lon, n.lon_deg);
+  }
+  return geo::standard_utm_zone(0.5 * (min_lat + max_lat), 0.5 * (min_lon + max_lon));
+}
+
+namespace {
+
+bool is_yes(std::string_view value) { return !value.empty() && value != "no" && value != "false" && value != "0"; }
+
+bool way_is_oneway(const Tags& tags) {
+  const std::string_view oneway = tag_value(tags, "oneway");
+  if (oneway == "yes" || oneway == "1" || oneway == "true" || oneway == "-1") return true;
+  if (oneway == "no") return false;
+  const std::string_view junction = tag_value(tags, "junction");
+  return junction == "roundabout" || junction == "circular";
+}
+
+bool way_is_tunnel(const Tags& tags) {
+  return is_yes(tag_value(tags, "tunnel")) || tag_value(tags, "covered") == "yes";
+}
+
+/// A run of consecutive located, distinct nodes of one way.
+struct NodeRun {
+  std::vector<std::int64_t> ids;
+  std::vector<PlanePoint> points;
+};
+
+/// Splits a way's node list into runs of located nodes, dropping consecutive duplicates.
+std::vector<NodeRun> located_runs(const RoadWay& way, const RoadNetwork& network,
+                                  const std::unordered_map<std::int64_t, PlanePoint>& projected,
+                                  std::uint64_t& dropped_refs) {
+  std::vector<NodeRun> runs(1);
+  for (std::int64_t id : way.node_ids) {
+    auto it = projected.find(id);
+    if (it == projected.end()) {
+      ++dropped_refs;
+      if (!runs.back().ids.empty()) runs.emplace_back();
+      continue;
+    }
+    NodeRun& run = runs.back();
+    if (!run.ids.empty() && run.ids.back() == id) continue;
+    run.ids.push_back(id);
+    run.points.push_back(it->second);
+  }
+  (void)network;
+  std::erase_if(runs, [](const NodeRun& r) { return r.ids.size() < 2; });
+  return runs;
+}
+
+/// Point at distance `s` (metres) along `points`, with the index of the edge it lies on.
+PlanePoint point_at(const std::vector<PlanePoint>& points, const std::vector<double>& cumulative,
+                    double s, std::size_t& edge) {
+  while (edge + 2 < points.size() && cumulative[edge + 1] < s) ++edge;
+  const double edge_length = cumulative[edge + 1] - cumulative[edge];
+  const double t = edge_length > 0.0 ? std::clamp((s - cumulative[edge]) / edge_length, 0.0, 1.0) : 0.0;
+  return {points[edge].x + t * (points[edge + 1].x - points[edge].x),
+          points[edge].y + t * (points[edge + 1].y - points[edge].y)};
+}
+
+void cut_piece(RoadGraph& graph, std::size_t piece_index, const RoadWay& way, double max_length_m,
+               std::int64_t& next_split_id) {
+  RoadPiece& piece = graph.pieces[piece_index];
+  const std::vector<PlanePoint>& pts = piece.points;
+  std::vector<double> cumulative(pts.size(), 0.0);
+  for (std::size_t i = 1; i < pts.size(); ++i) {
+    cumulative[i] = cumulative[i - 1] + std::hypot(pts[i].x - pts[i - 1].x, pts[i].y - pts[i - 1].y);
+  }
+  piece.length_m = cumulative.back();
+  // Equal parts: ceil with a tolerance so that a 20.000000001 m piece with a 10 m limit is 2.
+  const auto count = static_cast<std::size_t>(
+      std::max(1.0, std::ceil(piece.length_m / max_length_m - 1e-9)));
+  const double part_m = piece.length_m / static_cast<double>(count);
+  piece.first_segment = graph.segments.size();
+  piece.segment_count = count;
+
+  const std::string name(tag_value(way.tags, "name"));
+  const bool oneway = way_is_oneway(way.tags);
+  const bool tunnel = way_is_tunnel(way.tags);
+  const bool bridge = is_yes(tag_value(way.tags, "bridge"));
+  std::size_t edge = 0;
+  std::int64_t from_node = piece.from_node_id;
+  PlanePoint from_point = pts.front();
+  for (std::size_t k = 0; k < count; ++k) {
+    const double start_m = part_m * static_cast<double>(k);
+    const double end_m = (k + 1 == count) ? piece.length_m : part_m * static_cast<double>(k + 1);
+    Segment segment;
+    segment.id = static_cast<std::int64_t>(graph.segments.size()) + 1;
+    segment.way_index = piece.way_index;
+    segment.piece_index = piece_index;
+    segment.offset_in_piece_m = start_m;
+    segment.osm_way_id = way.osm_id;
+    segment.highway = way.highway;
+    segment.name = name;
+    segment.oneway = oneway;
+    segment.tunnel = tunnel;
+    segment.bridge = bridge;
+    segment.from_node_id = from_node;
+    segment.points.push_back(from_point);
+    // Interior OSM vertices strictly inside (start, end) keep the road's shape.
+    std::size_t vertex = edge + 1;
+    while (vertex + 1 < pts.size() && cumulative[vertex] <= start_m) ++vertex;
+    for (; vertex + 1 < pts.size() && cumulative[vertex] < end_m; ++vertex) {
+      segment.points.push_back(pts[vertex]);
+    }
+    const bool last = (k + 1 == count);
+    const PlanePoint to_point = last ? pts.back() : point_at(pts, cumulative, end_m, edge);
+    segment.points.push_back(to_point);
+    segment.to_node_id = last ? piece.to_node_id : next_split_id--;
+    segment.length_m = end_m - start_m;
+    from_node = segment.to_node_id;
+    from_point = to_point;
+    graph.segments.push_back(std::move(segment));
+  }
+}
+
+}  // namespace
+
+RoadGraph build_road_graph(const RoadNetwork& network, geo::UtmZone zone, double max_segment_length_m) {
+  RoadGraph graph;
+  graph.zone = zone;
+  std::unordered_map<std::int64_t, PlanePoint> projected;
+  projected.reserve(network.locations.size());
+  for (const NodeLocation& n : network.locations) {
+    const geo::UtmPoint p = geo::wgs84_to_utm(n.lat_deg, n.lon_deg, zone);
+    projected.emplace(n.osm_id, PlanePoint{p.easting_m, p.northing_m});
+  }
+
+  // Every located run of every way, then how often each node is used across all runs.
+  std::vector<std::pair<std::size_t, NodeRun>> runs;
+  for (std::size_t w = 0; w < network.ways.size(); ++w) {
+    auto way_runs = located_runs(network.ways[w], network, projected, graph.dropped_node_refs);
+    if (way_runs.empty()) ++graph.dropped_ways;
+    for (NodeRun& run : way_runs) runs.emplace_back(w, std::move(run));
+  }
+  std::unordered_map<std::int64_t, int> use_count;
+  for (const auto& [w, run] : runs) {
+    for (std::size_t i = 0; i < run.ids.size(); ++i) {
+      // A closed way's last node is its first: count it once so a ring alone is not a junction.
+      if (i + 1 == run.ids.size() && run.ids.back() == run.ids.front()) break;
+      ++use_count[run.ids[i]];
+    }
+  }
+
+  std::int64_t next_split_id = -1;
+  for (const auto& [w, run] : runs) {
+    std::size_t start = 0;
+    for (std::size_t i = 1; i < run.ids.size(); ++i) {
+      const bool end_of_run = (i + 1 == run.ids.size());
+      if (!end_of_run && use_count[run.ids[i]] < 2) continue;
+      RoadPiece piece;
+      piece.way_index = w;
+      piece.from_node_id = run.ids[start];
+      piece.to_node_id = run.ids[i];
+      piece.points.assign(run.points.begin() + static_cast<std::ptrdiff_t>(start),
+                          run.points.begin() + static_cast<std::ptrdiff_t>(i) + 1);
+      ++graph.degree[piece.from_node_id];
+      ++graph.degree[piece.to_node_id];
+      graph.pieces.push_back(std::move(piece));
+      cut_piece(graph, graph.pieces.size() - 1, network.ways[w], max_segment_length_m, next_split_id);
+      start = i;
+    }
+  }
+  return graph;
+}
+
+}  // namespace roadcross::preprocess

@@ -1,0 +1,145 @@
+// The roadcross runtime: opens a roadcross GeoPackage read-only and answers queries about the
+// road network in microseconds. Depends on SQLite and GeographicLib only; this header includes
+// neither. Every call is noexcept and reports failure through Status.
+//
+// Threading: one Map holds one SQLite connection and its prepared statements; use one Map per
+// thread (opening is cheap). Map objects share no global state.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "roadcross/geo.hpp"
+
+namespace roadcross {
+
+enum class StatusCode {
+  ok,
+  file_not_found,    ///< the path does not exist or is not readable
+  not_a_database,    ///< not SQLite, not a GeoPackage, or not written by roadcross-build
+  wrong_version,     ///< a roadcross DB of a schema version this runtime cannot read
+  corrupt_database,  ///< a roadcross DB whose content breaks the contract
+  invalid_argument,  ///< NaN, out-of-range latitude/longitude, position outside the map's zone
+  not_found,         ///< no road in the map near enough to answer
+  internal,          ///< an unexpected SQLite error
+};
+
+const char* to_string(StatusCode code) noexcept;
+
+struct Status {
+  StatusCode code = StatusCode::ok;
+  std::string message;  ///< what went wrong and what to do about it; empty when ok
+  bool ok() const noexcept { return code == StatusCode::ok; }
+};
+
+/// A value or the reason there is none.
+template <typename T>
+struct Result {
+  Status status;
+  std::optional<T> value;
+  bool ok() const noexcept { return status.ok(); }
+  const T& operator*() const { return *value; }
+  T& operator*() { return *value; }
+  const T* operator->() const { return &*value; }
+  T* operator->() { return &*value; }
+};
+
+/// A query position: UTM easting/northing in the map's zone, or WGS84 latitude/longitude.
+struct Position {
+  enum class Kind { utm, wgs84 };
+  Kind kind = Kind::utm;
+  double first = 0.0;   ///< easting_m or lat_deg
+  double second = 0.0;  ///< northing_m or lon_deg
+
+  static Position utm(double easting_m, double northing_m) noexcept {
+    return {Kind::utm, easting_m, northing_m};
+  }
+  static Position wgs84(double lat_deg, double lon_deg) noexcept {
+    return {Kind::wgs84, lat_deg, lon_deg};
+  }
+};
+
+struct PlanePoint {
+  double easting_m = 0.0;
+  double northing_m = 0.0;
+};
+
+struct MapInfo {
+  std::string path;
+  int schema_version = 0;
+  std::string tool_version;
+  geo::UtmZone zone;
+  int epsg = 0;
+  std::int64_t segment_count = 0;
+  /// Extent of all segments in the map's UTM zone, metres.
+  double min_easting_m = 0.0, min_northing_m = 0.0, max_easting_m = 0.0, max_northing_m = 0.0;
+  /// Every row of the metadata table (schema version, parameters, inputs), sorted by key.
+  std::vector<std::pair<std::string, std::string>> metadata;
+};
+
+/// The road centreline nearest to a position.
+struct NearestRoad {
+  std::int64_t segment_id = 0;
+  std::int64_t osm_way_id = 0;
+  std::string highway;  ///< OSM highway=* value
+  std::string name;     ///< empty when the way has no name
+  PlanePoint query;     ///< the query position in the map's UTM zone
+  PlanePoint closest;   ///< nearest point on the segment's centreline
+  double distance_m = 0.0;
+  double segment_length_m = 0.0;
+};
+
+/// The road direction at the nearest point and the heading that crosses it.
+struct RoadHeading {
+  NearestRoad road;
+  /// Direction of the road at the nearest point, in the direction the OSM way is drawn,
+  /// ENU yaw in the map's UTM grid frame, radians (-pi, pi].
+  double road_heading_rad = 0.0;
+  /// Perpendicular to the road, pointing from the query position's side across it, ENU yaw in
+  /// the UTM grid frame, radians (-pi, pi]. On the centreline itself (on_centreline) the side
+  /// is unknown and the right-hand normal of the way direction is returned.
+  double crossing_heading_rad = 0.0;
+  /// The same two directions as compass bearings (degrees, [0, 360), grid north).
+  double road_bearing_deg = 0.0;
+  double crossing_bearing_deg = 0.0;
+  /// Add to a grid yaw to get a yaw relative to true east (see geo::UtmPoint).
+  double convergence_rad = 0.0;
+  bool on_centreline = false;
+};
+
+class Map {
+ public:
+  /// Opens a roadcross DB read-only and checks that it is a roadcross GeoPackage of a schema
+  /// version this runtime reads. The message says what to do otherwise.
+  static Result<Map> open(const std::string& path) noexcept;
+
+  Map(Map&&) noexcept;
+  Map& operator=(Map&&) noexcept;
+  Map(const Map&) = delete;
+  Map& operator=(const Map&) = delete;
+  ~Map();
+
+  const MapInfo& info() const noexcept;
+
+  /// The position in the map's UTM zone (WGS84 input is projected with GeographicLib).
+  Result<PlanePoint> to_utm(const Position& position) const noexcept;
+
+  /// The nearest road segment, searching outwards up to `max_distance_m` (metres, > 0).
+  Result<NearestRoad> nearest(const Position& position,
+                              double max_distance_m = 1000.0) noexcept;
+
+  /// The road's direction at the nearest point and the crossing heading.
+  Result<RoadHeading> road_heading(const Position& position,
+                                   double max_distance_m = 1000.0) noexcept;
+
+ private:
+  struct Impl;
+  explicit Map(std::unique_ptr<Impl> impl) noexcept;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace roadcross

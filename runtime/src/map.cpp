@@ -1,0 +1,301 @@
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <charconv>
+#include <limits>
+#include <cmath>
+#include <utility>
+
+#include "polyline.hpp"
+#include "roadcross/runtime.hpp"
+#include "roadcross/schema/gpkg_geometry.hpp"
+#include "roadcross/schema/schema.hpp"
+#include "roadcross/schema/sqlite.hpp"
+
+namespace roadcross {
+
+const char* to_string(StatusCode code) noexcept {
+  switch (code) {
+    case StatusCode::ok: return "ok";
+    case StatusCode::file_not_found: return "file_not_found";
+    case StatusCode::not_a_database: return "not_a_database";
+    case StatusCode::wrong_version: return "wrong_version";
+    case StatusCode::corrupt_database: return "corrupt_database";
+    case StatusCode::invalid_argument: return "invalid_argument";
+    case StatusCode::not_found: return "not_found";
+    case StatusCode::internal: return "internal";
+  }
+  return "unknown";
+}
+
+namespace {
+
+constexpr const char* kRebuildHint =
+    "Rebuild it with this version's roadcross-build (roadcross-build --osm MAP.osm.pbf -o OUT.gpkg).";
+
+template <typename T>
+Result<T> fail(StatusCode code, std::string message) {
+  return Result<T>{Status{code, std::move(message)}, std::nullopt};
+}
+
+bool parse_int(const std::string& text, int& out) {
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), out);
+  return ec == std::errc() && end == text.data() + text.size();
+}
+
+/// The segments table's geometry and the rows the queries read. One instance per Map.
+struct Queries {
+  sqlite::Statement candidates;
+  sqlite::Statement attributes;
+
+  explicit Queries(sqlite::Database& db)
+      : candidates(db.prepare("SELECT s.fid, s.geom FROM " + std::string(schema::kSegmentsRtree) +
+                              " r JOIN " + std::string(schema::kSegmentsTable) +
+                              " s ON s.fid = r.id WHERE r.maxx >= ?1 AND r.minx <= ?2 AND "
+                              "r.maxy >= ?3 AND r.miny <= ?4")),
+        attributes(db.prepare("SELECT osm_way_id, highway, name, length_m FROM " +
+                              std::string(schema::kSegmentsTable) + " WHERE fid = ?1")) {}
+};
+
+}  // namespace
+
+struct Map::Impl {
+  sqlite::Database db;
+  MapInfo info;
+  Queries queries;
+  std::vector<schema::PlanePoint> scratch;  // reused geometry buffer: no allocation per query
+  std::vector<schema::PlanePoint> best_geometry;
+
+  Impl(sqlite::Database&& database, MapInfo&& map_info)
+      : db(std::move(database)), info(std::move(map_info)), queries(db) {}
+};
+
+Map::Map(std::unique_ptr<Impl> impl) noexcept : impl_(std::move(impl)) {}
+Map::Map(Map&&) noexcept = default;
+Map& Map::operator=(Map&&) noexcept = default;
+Map::~Map() = default;
+
+const MapInfo& Map::info() const noexcept { return impl_->info; }
+
+namespace {
+
+Status read_metadata(sqlite::Database& db, MapInfo& info) {
+  const std::string& path = info.path;
+  std::int64_t application_id = 0;
+  {
+    auto pragma = db.prepare("PRAGMA application_id");
+    if (pragma.step()) application_id = pragma.column_int64(0);
+  }
+  if (application_id != schema::kGpkgApplicationId) {
+    return {StatusCode::not_a_database,
+            path + ": not a GeoPackage (SQLite application_id is " + std::to_string(application_id) +
+                ", expected 'GPKG'). " + kRebuildHint};
+  }
+  {
+    auto has_table = db.prepare("SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name = ?1");
+    has_table.bind(1, schema::kMetadataTable);
+    has_table.step();
+    if (has_table.column_int64(0) == 0) {
+      return {StatusCode::not_a_database,
+              path + ": a GeoPackage, but not written by roadcross-build (no table " +
+                  std::string(schema::kMetadataTable) + "). " + kRebuildHint};
+    }
+  }
+  auto rows = db.prepare("SELECT key, value FROM " + std::string(schema::kMetadataTable) + " ORDER BY key");
+  while (rows.step()) info.metadata.emplace_back(rows.column_text(0), rows.column_text(1));
+
+  auto value_of = [&](std::string_view key) -> const std::string* {
+    for (const auto& [k, v] : info.metadata) {
+      if (k == key) return &v;
+    }
+    return nullptr;
+  };
+  const std::string* version = value_of(schema::meta::kSchemaVersion);
+  if (!version || !parse_int(*version, info.schema_version)) {
+    return {StatusCode::corrupt_database,
+            path + ": roadcross metadata has no valid schema_version. " + kRebuildHint};
+  }
+  if (info.schema_version > schema::kSchemaVersion) {
+    return {StatusCode::wrong_version,
+            path + ": written with roadcross schema version " + *version +
+                ", newer than this runtime reads (" + std::to_string(schema::kOldestReadableVersion) +
+                ".." + std::to_string(schema::kSchemaVersion) +
+                "). Update the runtime, or rebuild the DB with the roadcross-build that matches it."};
+  }
+  if (info.schema_version < schema::kOldestReadableVersion) {
+    return {StatusCode::wrong_version,
+            path + ": written with roadcross schema version " + *version +
+                ", older than this runtime reads (" + std::to_string(schema::kOldestReadableVersion) +
+                ".." + std::to_string(schema::kSchemaVersion) + "). " + kRebuildHint};
+  }
+  const std::string* zone = value_of(schema::meta::kUtmZone);
+  const std::string* northern = value_of(schema::meta::kUtmNorthern);
+  const std::string* epsg = value_of(schema::meta::kEpsg);
+  int northern_flag = 0;
+  if (!zone || !northern || !epsg || !parse_int(*zone, info.zone.zone) ||
+      !parse_int(*northern, northern_flag) || !parse_int(*epsg, info.epsg) ||
+      info.zone.zone < 1 || info.zone.zone > 60) {
+    return {StatusCode::corrupt_database, path + ": roadcross metadata lacks a valid UTM zone. " + kRebuildHint};
+  }
+  info.zone.northern = northern_flag != 0;
+  if (const std::string* tool = value_of(schema::meta::kToolVersion)) info.tool_version = *tool;
+  if (const std::string* count = value_of(schema::meta::kSegmentCount)) {
+    info.segment_count = std::strtoll(count->c_str(), nullptr, 10);
+  }
+  auto extent = db.prepare("SELECT min_x, min_y, max_x, max_y FROM gpkg_contents WHERE table_name = ?1");
+  extent.bind(1, schema::kSegmentsTable);
+  if (extent.step()) {
+    info.min_easting_m = extent.column_double(0);
+    info.min_northing_m = extent.column_double(1);
+    info.max_easting_m = extent.column_double(2);
+    info.max_northing_m = extent.column_double(3);
+  }
+  return {};
+}
+
+}  // namespace
+
+Result<Map> Map::open(const std::string& path) noexcept {
+  try {
+    struct stat file_status {};
+    if (::stat(path.c_str(), &file_status) != 0 || !S_ISREG(file_status.st_mode)) {
+      return fail<Map>(StatusCode::file_not_found,
+                       path + ": no such file. Build one with roadcross-build --osm MAP -o " + path);
+    }
+    sqlite::Database db(path, SQLITE_OPEN_READONLY | SQLITE_OPEN_NOMUTEX);
+    MapInfo info;
+    info.path = path;
+    Status status = read_metadata(db, info);
+    if (!status.ok()) return Result<Map>{std::move(status), std::nullopt};
+    auto impl = std::make_unique<Impl>(std::move(db), std::move(info));
+    return Result<Map>{Status{}, Map(std::move(impl))};
+  } catch (const sqlite::sqlite_error& e) {
+    if ((e.code() & 0xff) == SQLITE_NOTADB) {
+      return fail<Map>(StatusCode::not_a_database,
+                       path + ": not an SQLite database, so not a roadcross map. " + kRebuildHint);
+    }
+    if ((e.code() & 0xff) == SQLITE_CANTOPEN) {
+      return fail<Map>(StatusCode::file_not_found, path + ": cannot open: " + e.what());
+    }
+    return fail<Map>(StatusCode::not_a_database, path + ": " + e.what());
+  } catch (const std::exception& e) {
+    return fail<Map>(StatusCode::internal, path + ": " + e.what());
+  }
+}
+
+Result<PlanePoint> Map::to_utm(const Position& position) const noexcept {
+  if (!std::isfinite(position.first) || !std::isfinite(position.second)) {
+    return fail<PlanePoint>(StatusCode::invalid_argument, "position has a NaN or infinite coordinate");
+  }
+  if (position.kind == Position::Kind::utm) {
+    return Result<PlanePoint>{Status{}, PlanePoint{position.first, position.second}};
+  }
+  try {
+    const geo::UtmPoint p = geo::wgs84_to_utm(position.first, position.second, impl_->info.zone);
+    return Result<PlanePoint>{Status{}, PlanePoint{p.easting_m, p.northing_m}};
+  } catch (const std::exception& e) {
+    return fail<PlanePoint>(StatusCode::invalid_argument, e.what());
+  }
+}
+
+namespace {
+
+struct Candidate {
+  std::int64_t segment_id = -1;
+  detail::PolylineProjection projection;
+};
+
+}  // namespace
+
+Result<NearestRoad> Map::nearest(const Position& position, double max_distance_m) noexcept {
+  if (!(max_distance_m > 0.0)) {
+    return fail<NearestRoad>(StatusCode::invalid_argument, "max_distance_m must be > 0");
+  }
+  const Result<PlanePoint> query = to_utm(position);
+  if (!query.ok()) return fail<NearestRoad>(query.status.code, query.status.message);
+  const schema::PlanePoint p{query->easting_m, query->northing_m};
+  try {
+    Impl& impl = *impl_;
+    Candidate best;
+    best.projection.distance_m = std::numeric_limits<double>::infinity();
+    // Grow the search box until the best candidate is inside the searched radius: then no
+    // segment outside the box can be nearer, since its bounding box would intersect it.
+    for (double radius_m = std::min(32.0, max_distance_m);; radius_m = std::min(radius_m * 4.0, max_distance_m)) {
+      sqlite::Statement& stmt = impl.queries.candidates;
+      stmt.bind(1, p.x - radius_m);
+      stmt.bind(2, p.x + radius_m);
+      stmt.bind(3, p.y - radius_m);
+      stmt.bind(4, p.y + radius_m);
+      while (stmt.step()) {
+        if (!schema::decode_linestring(stmt.column_blob(1), impl.scratch)) {
+          const std::int64_t fid = stmt.column_int64(0);
+          stmt.reset();
+          throw std::runtime_error("segment " + std::to_string(fid) + " has a malformed geometry");
+        }
+        const auto projection = detail::project_onto_polyline(impl.scratch, p);
+        if (projection.distance_m < best.projection.distance_m) {
+          best = {stmt.column_int64(0), projection};
+          impl.best_geometry.swap(impl.scratch);
+        }
+      }
+      stmt.reset();
+      if (best.projection.distance_m <= radius_m || radius_m >= max_distance_m) break;
+    }
+    if (best.segment_id < 0 || best.projection.distance_m > max_distance_m) {
+      return fail<NearestRoad>(StatusCode::not_found,
+                               "no road within " + std::to_string(max_distance_m) + " m of E " +
+                                   std::to_string(p.x) + " N " + std::to_string(p.y) +
+                                   " (UTM zone " + std::to_string(impl.info.zone.zone) + ")");
+    }
+    NearestRoad road;
+    road.segment_id = best.segment_id;
+    road.query = {p.x, p.y};
+    road.closest = {best.projection.closest.x, best.projection.closest.y};
+    road.distance_m = best.projection.distance_m;
+    sqlite::Statement& attributes = impl.queries.attributes;
+    attributes.bind(1, best.segment_id);
+    if (attributes.step()) {
+      road.osm_way_id = attributes.column_int64(0);
+      road.highway = attributes.column_text(1);
+      road.name = attributes.column_text(2);
+      road.segment_length_m = attributes.column_double(3);
+    }
+    attributes.reset();
+    return Result<NearestRoad>{Status{}, std::move(road)};
+  } catch (const std::exception& e) {
+    return fail<NearestRoad>(StatusCode::corrupt_database, impl_->info.path + ": " + e.what());
+  }
+}
+
+Result<RoadHeading> Map::road_heading(const Position& position, double max_distance_m) noexcept {
+  Result<NearestRoad> road = nearest(position, max_distance_m);
+  if (!road.ok()) return fail<RoadHeading>(road.status.code, road.status.message);
+  const std::vector<schema::PlanePoint>& geometry = impl_->best_geometry;
+  const schema::PlanePoint query{road->query.easting_m, road->query.northing_m};
+  const detail::PolylineProjection at = detail::project_onto_polyline(geometry, query);
+
+  RoadHeading heading;
+  heading.road_heading_rad = detail::polyline_direction_rad(geometry, at);
+  // Which side of the road is the query on? The sign of the cross product of the road
+  // direction with the vector from the road to the query: > 0 means left of the way direction.
+  const double dir_x = std::cos(heading.road_heading_rad), dir_y = std::sin(heading.road_heading_rad);
+  const double off_x = query.x - at.closest.x, off_y = query.y - at.closest.y;
+  const double side = dir_x * off_y - dir_y * off_x;
+  constexpr double kOnCentrelineM = 1e-3;
+  heading.on_centreline = road->distance_m < kOnCentrelineM;
+  // Left of the road -> cross towards the right (yaw - pi/2), and vice versa.
+  const double normal = (side >= 0.0 || heading.on_centreline) ? -geo::kPi / 2.0 : geo::kPi / 2.0;
+  heading.crossing_heading_rad = geo::normalize_angle_rad(heading.road_heading_rad + normal);
+  heading.road_bearing_deg = geo::yaw_rad_to_bearing_deg(heading.road_heading_rad);
+  heading.crossing_bearing_deg = geo::yaw_rad_to_bearing_deg(heading.crossing_heading_rad);
+  try {
+    const geo::LatLon ll = geo::utm_to_wgs84(query.x, query.y, impl_->info.zone);
+    heading.convergence_rad = geo::wgs84_to_utm(ll.lat_deg, ll.lon_deg, impl_->info.zone).convergence_rad;
+  } catch (const std::exception&) {
+    heading.convergence_rad = 0.0;  // only outside the UTM domain, which nearest() rejected
+  }
+  heading.road = std::move(*road);
+  return Result<RoadHeading>{Status{}, std::move(heading)};
+}
+
+}  // namespace roadcross

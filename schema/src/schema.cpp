@@ -1,0 +1,193 @@
+#include "roadcross/schema/schema.hpp"
+
+#include <stdexcept>
+
+namespace roadcross::schema {
+
+const std::vector<Column>& segment_columns() {
+  // Order matters: the writer binds values in this order. Later schema versions append.
+  static const std::vector<Column> columns = {
+      // Identity and topology (foundation).
+      {"osm_way_id", "INTEGER NOT NULL", "OSM way the segment was cut from"},
+      {"highway", "TEXT NOT NULL", "OSM highway=* value of the way"},
+      {"name", "TEXT", "OSM name of the way, NULL when untagged"},
+      {"length_m", "REAL NOT NULL", "length along the centreline, metres"},
+      {"from_node_id", "INTEGER NOT NULL",
+       "road-graph node at the first vertex: the OSM node id, or a negative id for a split point "
+       "inside a way"},
+      {"to_node_id", "INTEGER NOT NULL", "road-graph node at the last vertex (same convention)"},
+      {"oneway", "INTEGER NOT NULL", "1 when the way is one-way (oneway=yes/1/true/-1, roundabout)"},
+      {"tunnel", "INTEGER NOT NULL", "1 in a tunnel, building passage or covered=yes"},
+      {"bridge", "INTEGER NOT NULL", "1 on a bridge"},
+      // Geometry cost (road class, junctions, curvature).
+      {"class_cost", "INTEGER", "road class cost 0..5 (primary 5 .. unclassified 1)"},
+      {"junction_distance_m", "REAL",
+       "distance along the road to the nearest junction (graph degree >= 3), metres; NULL when "
+       "the connected road has no junction"},
+      {"radius_m", "REAL", "smallest circumradius over the segment, metres (10000 = straight)"},
+      {"curvature_level", "INTEGER", "0..5, 5 = at a junction"},
+      {"curvature_cost", "INTEGER", "0..14, windowed over +-100 m of road"},
+      // Terrain.
+      {"elevation_m", "REAL", "terrain elevation at the segment midpoint, metres"},
+      {"slope_deg", "REAL", "terrain slope at the midpoint, degrees"},
+      {"grade_percent", "REAL", "road grade along the segment, percent"},
+      {"tpi_small_m", "REAL", "topographic position index at the small scale, metres"},
+      {"tpi_large_m", "REAL", "topographic position index at the large scale, metres"},
+      {"landform", "TEXT", "Weiss (2001) landform class name"},
+      {"elevation_cost", "INTEGER", "0..9, windowed over +-100 m of road"},
+      // Context from OSM tags.
+      {"maxspeed_kmh", "REAL", "speed limit used, km/h"},
+      {"lanes", "INTEGER", "number of lanes used"},
+      {"width_m", "REAL", "carriageway width used, metres"},
+      {"context_score", "INTEGER", "context score from tags"},
+      {"crossing_distance_m", "REAL",
+       "distance along the road to the nearest designated crossing, metres"},
+      {"context_defaulted", "TEXT", "comma-separated context inputs that took a default"},
+      {"override_note", "TEXT", "note of the operator override applied to this segment"},
+      // Result.
+      {"rank", "INTEGER", "0..14, higher is worse"},
+      {"score", "INTEGER", "15 - rank"},
+      {"reasons", "TEXT", "comma-separated reason codes"},
+  };
+  return columns;
+}
+
+int utm_epsg(int zone, bool northern) {
+  if (zone < 1 || zone > 60) throw std::invalid_argument("UTM zone must be in 1..60");
+  return (northern ? 32600 : 32700) + zone;
+}
+
+std::string utm_wkt(int zone, bool northern) {
+  const int epsg = utm_epsg(zone, northern);
+  const int central_meridian_deg = 6 * zone - 183;
+  const std::string name =
+      "WGS 84 / UTM zone " + std::to_string(zone) + (northern ? "N" : "S");
+  return "PROJCS[\"" + name +
+         "\",GEOGCS[\"WGS 84\",DATUM[\"WGS_1984\",SPHEROID[\"WGS 84\",6378137,298.257223563,"
+         "AUTHORITY[\"EPSG\",\"7030\"]],AUTHORITY[\"EPSG\",\"6326\"]],PRIMEM[\"Greenwich\",0,"
+         "AUTHORITY[\"EPSG\",\"8901\"]],UNIT[\"degree\",0.0174532925199433,AUTHORITY[\"EPSG\","
+         "\"9122\"]],AUTHORITY[\"EPSG\",\"4326\"]],PROJECTION[\"Transverse_Mercator\"],"
+         "PARAMETER[\"latitude_of_origin\",0],PARAMETER[\"central_meridian\"," +
+         std::to_string(central_meridian_deg) +
+         "],PARAMETER[\"scale_factor\",0.9996],PARAMETER[\"false_easting\",500000],"
+         "PARAMETER[\"false_northing\"," +
+         (northern ? std::string("0") : std::string("10000000")) +
+         "],UNIT[\"metre\",1,AUTHORITY[\"EPSG\",\"9001\"]],AXIS[\"Easting\",EAST],"
+         "AXIS[\"Northing\",NORTH],AUTHORITY[\"EPSG\",\"" +
+         std::to_string(epsg) + "\"]]";
+}
+
+namespace {
+
+std::string quote(std::string_view text) {
+  std::string out = "'";
+  for (char c : text) {
+    if (c == '\'') out += '\'';
+    out += c;
+  }
+  return out + "'";
+}
+
+std::string segments_table_ddl() {
+  std::string ddl = "CREATE TABLE " + std::string(kSegmentsTable) +
+                    " (fid INTEGER PRIMARY KEY NOT NULL, " + std::string(kGeometryColumn) +
+                    " LINESTRING NOT NULL";
+  for (const Column& column : segment_columns()) {
+    ddl += ", " + std::string(column.name) + " " + std::string(column.sql_type);
+  }
+  return ddl + ")";
+}
+
+}  // namespace
+
+std::vector<std::string> create_statements(int zone, bool northern, std::string_view last_change) {
+  const int epsg = utm_epsg(zone, northern);
+  const std::string srs = std::to_string(epsg);
+  const std::string segments(kSegmentsTable);
+  const std::string geom(kGeometryColumn);
+  return {
+      "PRAGMA application_id = " + std::to_string(kGpkgApplicationId),
+      "PRAGMA user_version = " + std::to_string(kGpkgUserVersion),
+      // GeoPackage core tables (spec 1.3, clauses 1.1.2 and 1.1.3).
+      "CREATE TABLE gpkg_spatial_ref_sys (srs_name TEXT NOT NULL, srs_id INTEGER PRIMARY KEY, "
+      "organization TEXT NOT NULL, organization_coordsys_id INTEGER NOT NULL, definition TEXT NOT "
+      "NULL, description TEXT)",
+      "INSERT INTO gpkg_spatial_ref_sys VALUES ('Undefined cartesian SRS', -1, 'NONE', -1, "
+      "'undefined', 'undefined cartesian coordinate reference system')",
+      "INSERT INTO gpkg_spatial_ref_sys VALUES ('Undefined geographic SRS', 0, 'NONE', 0, "
+      "'undefined', 'undefined geographic coordinate reference system')",
+      "INSERT INTO gpkg_spatial_ref_sys VALUES ('WGS 84 geodetic', 4326, 'EPSG', 4326, "
+      "'GEOGCS[\"WGS 84\",DATUM[\"WGS_1984\",SPHEROID[\"WGS 84\",6378137,298.257223563,"
+      "AUTHORITY[\"EPSG\",\"7030\"]],AUTHORITY[\"EPSG\",\"6326\"]],PRIMEM[\"Greenwich\",0,"
+      "AUTHORITY[\"EPSG\",\"8901\"]],UNIT[\"degree\",0.0174532925199433,AUTHORITY[\"EPSG\","
+      "\"9122\"]],AXIS[\"Latitude\",NORTH],AXIS[\"Longitude\",EAST],AUTHORITY[\"EPSG\","
+      "\"4326\"]]', 'longitude/latitude coordinates in decimal degrees on the WGS 84 spheroid')",
+      "INSERT INTO gpkg_spatial_ref_sys VALUES (" +
+          quote("WGS 84 / UTM zone " + std::to_string(zone) + (northern ? "N" : "S")) + ", " +
+          srs + ", 'EPSG', " + srs + ", " + quote(utm_wkt(zone, northern)) + ", NULL)",
+      "CREATE TABLE gpkg_contents (table_name TEXT NOT NULL PRIMARY KEY, data_type TEXT NOT NULL, "
+      "identifier TEXT UNIQUE, description TEXT DEFAULT '', last_change DATETIME NOT NULL, "
+      "min_x DOUBLE, min_y DOUBLE, max_x DOUBLE, max_y DOUBLE, srs_id INTEGER, CONSTRAINT "
+      "fk_gc_r_srs_id FOREIGN KEY (srs_id) REFERENCES gpkg_spatial_ref_sys(srs_id))",
+      "CREATE TABLE gpkg_geometry_columns (table_name TEXT NOT NULL, column_name TEXT NOT NULL, "
+      "geometry_type_name TEXT NOT NULL, srs_id INTEGER NOT NULL, z TINYINT NOT NULL, m TINYINT "
+      "NOT NULL, CONSTRAINT pk_geom_cols PRIMARY KEY (table_name, column_name), CONSTRAINT "
+      "uk_gc_table_name UNIQUE (table_name), CONSTRAINT fk_gc_tn FOREIGN KEY (table_name) "
+      "REFERENCES gpkg_contents(table_name), CONSTRAINT fk_gc_srs FOREIGN KEY (srs_id) REFERENCES "
+      "gpkg_spatial_ref_sys (srs_id))",
+      "CREATE TABLE gpkg_extensions (table_name TEXT, column_name TEXT, extension_name TEXT NOT "
+      "NULL, definition TEXT NOT NULL, scope TEXT NOT NULL, CONSTRAINT ge_tce UNIQUE "
+      "(table_name, column_name, extension_name))",
+      // roadcross tables.
+      segments_table_ddl(),
+      "INSERT INTO gpkg_contents (table_name, data_type, identifier, description, last_change, "
+      "srs_id) VALUES (" +
+          quote(segments) +
+          ", 'features', 'segments', 'road segments with crossing cost terms', " +
+          quote(last_change) + ", " + srs + ")",
+      "INSERT INTO gpkg_geometry_columns VALUES (" + quote(segments) + ", " + quote(geom) +
+          ", 'LINESTRING', " + srs + ", 0, 0)",
+      "CREATE VIRTUAL TABLE " + std::string(kSegmentsRtree) +
+          " USING rtree(id, minx, maxx, miny, maxy)",
+      "INSERT INTO gpkg_extensions VALUES (" + quote(segments) + ", " + quote(geom) +
+          ", 'gpkg_rtree_index', 'http://www.geopackage.org/spec120/#extension_rtree', "
+          "'write-only')",
+      "CREATE TABLE " + std::string(kMetadataTable) +
+          " (key TEXT PRIMARY KEY NOT NULL, value TEXT NOT NULL)",
+      "INSERT INTO gpkg_contents (table_name, data_type, identifier, description, last_change) "
+      "VALUES (" +
+          quote(kMetadataTable) +
+          ", 'attributes', 'roadcross_metadata', 'roadcross schema version, CRS, parameters and "
+          "inputs', " +
+          quote(last_change) + ")",
+  };
+}
+
+std::vector<std::string> rtree_trigger_statements() {
+  const std::string t(kSegmentsTable);
+  const std::string c(kGeometryColumn);
+  const std::string r(kSegmentsRtree);
+  const std::string bbox = "(NEW.fid, ST_MinX(NEW." + c + "), ST_MaxX(NEW." + c +
+                           "), ST_MinY(NEW." + c + "), ST_MaxY(NEW." + c + "))";
+  const std::string prefix = "CREATE TRIGGER " + r + "_";
+  return {
+      prefix + "insert AFTER INSERT ON " + t + " WHEN (new." + c + " NOT NULL AND NOT ST_IsEmpty(NEW." +
+          c + ")) BEGIN INSERT OR REPLACE INTO " + r + " VALUES " + bbox + "; END",
+      prefix + "update1 AFTER UPDATE OF " + c + " ON " + t + " WHEN OLD.fid = NEW.fid AND (NEW." +
+          c + " NOTNULL AND NOT ST_IsEmpty(NEW." + c + ")) BEGIN INSERT OR REPLACE INTO " + r +
+          " VALUES " + bbox + "; END",
+      prefix + "update2 AFTER UPDATE OF " + c + " ON " + t + " WHEN OLD.fid = NEW.fid AND (NEW." +
+          c + " ISNULL OR ST_IsEmpty(NEW." + c + ")) BEGIN DELETE FROM " + r +
+          " WHERE id = OLD.fid; END",
+      prefix + "update3 AFTER UPDATE ON " + t + " WHEN OLD.fid != NEW.fid AND (NEW." + c +
+          " NOTNULL AND NOT ST_IsEmpty(NEW." + c + ")) BEGIN DELETE FROM " + r +
+          " WHERE id = OLD.fid; INSERT OR REPLACE INTO " + r + " VALUES " + bbox + "; END",
+      prefix + "update4 AFTER UPDATE ON " + t + " WHEN OLD.fid != NEW.fid AND (NEW." + c +
+          " ISNULL OR ST_IsEmpty(NEW." + c + ")) BEGIN DELETE FROM " + r +
+          " WHERE id IN (OLD.fid, NEW.fid); END",
+      prefix + "delete AFTER DELETE ON " + t + " WHEN old." + c + " NOT NULL BEGIN DELETE FROM " +
+          r + " WHERE id = OLD.fid; END",
+  };
+}
+
+}  // namespace roadcross::schema

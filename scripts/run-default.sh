@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Sets up, builds and runs roadcross-build on the bundled Prague map (New Town around Karlovo
+# namesti, where the method was first tested), then asks the map a sample question.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+bash scripts/setup.sh
+cmake --preset release >/dev/null
+cmake --build --preset release -j"$(nproc)" --target roadcross-build roadcross
+
+mkdir -p out
+./build/release/cli/roadcross-build \
+  --osm maps/prague/prague_nove_mesto_roads_2017.osm \
+  -o out/prague.gpkg
+
+echo
+echo "== roadcross info out/prague.gpkg"
+./build/release/cli/roadcross info out/prague.gpkg
+echo
+echo "== A robot 5 m north of Resslova street, west of Karlovo namesti: which way to cross?"
+./build/release/cli/roadcross heading --db out/prague.gpkg --lat 50.07582 --lon 14.41600

@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages roadcross needs. Non-interactive and idempotent:
+# when every package is already installed it only checks (well under a second).
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config
+  # preprocess (roadcross-build)
+  libosmium2-dev libprotozero-dev libbz2-dev libexpat1-dev zlib1g-dev liblz4-dev
+  libgdal-dev libcgal-dev libeigen3-dev libboost-dev
+  # runtime
+  libsqlite3-dev libgeographiclib-dev
+  # cli and tests
+  libcli11-dev nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev
+  # checking tools used by tests and benchmarks
+  osmium-tool gdal-bin sqlite3 time
+)
+
+missing=()
+for package in "${packages[@]}"; do
+  status=$(dpkg-query -W -f='${Status}' "$package" 2>/dev/null || true)
+  [[ "$status" == "install ok installed" ]] || missing+=("$package")
+done
+
+if ((${#missing[@]} == 0)); then
+  echo "setup: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+echo "setup: installing ${missing[*]}"
+sudo_cmd=()
+if [[ $(id -u) -ne 0 ]]; then sudo_cmd=(sudo); fi
+export DEBIAN_FRONTEND=noninteractive
+"${sudo_cmd[@]}" apt-get update -qq
+"${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "setup: done"
