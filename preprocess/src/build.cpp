@@ -54,6 +54,9 @@ BuildSummary run_build(const BuildOptions& options) {
   progress.finish_stage(std::to_string(graph.segments.size()) + " segments in UTM zone " +
                         std::to_string(zone.zone) + (zone.northern ? "N" : "S"));
 
+  // Cost stages plug in here, in this order; each fills its Segment fields and appends its
+  // reason codes: geometry (class, junctions, curvature), terrain, context, then rank/score.
+
   DatabaseContents contents;
   contents.graph = &graph;
   contents.last_change = iso8601_utc(network.newest_timestamp_s);
