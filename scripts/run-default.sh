@@ -18,4 +18,4 @@ echo "== roadcross info out/prague.gpkg"
 ./build/release/cli/roadcross info out/prague.gpkg
 echo
 echo "== A robot 5 m north of Resslova street, west of Karlovo namesti: which way to cross?"
-./build/release/cli/roadcross heading --db out/prague.gpkg --lat 50.07582 --lon 14.41600
+./build/release/cli/roadcross heading --db out/prague.gpkg --lat 50.075769 --lon 14.416015

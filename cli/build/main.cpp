@@ -6,6 +6,7 @@
 
 #include "roadcross/preprocess/build.hpp"
 #include "roadcross/preprocess/errors.hpp"
+#include "roadcross/preprocess/interrupt.hpp"
 #include "roadcross/preprocess/progress.hpp"
 #include "roadcross/version.hpp"
 
@@ -33,6 +34,7 @@ int main(int argc, char** argv) {
   app.add_flag("-q,--quiet", quiet, "no progress output");
   CLI11_PARSE(app, argc, argv);
 
+  rp::install_interrupt_cleanup();
   options.show_progress = !quiet && rp::Progress::stderr_is_terminal();
   options.tool_version = roadcross::kVersion;
   try {

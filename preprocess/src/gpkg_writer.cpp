@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "roadcross/preprocess/errors.hpp"
+#include "roadcross/preprocess/interrupt.hpp"
 #include "roadcross/preprocess/progress.hpp"
 #include "roadcross/schema/gpkg_geometry.hpp"
 #include "roadcross/schema/schema.hpp"
@@ -28,9 +29,11 @@ AtomicOutput::AtomicOutput(std::string target) : target_(std::move(target)) {
   }
   ::close(fd);
   temp_path_ = pattern;
+  set_interrupt_cleanup_path(temp_path_.c_str());
 }
 
 AtomicOutput::~AtomicOutput() {
+  set_interrupt_cleanup_path(nullptr);
   if (!committed_) {
     std::remove(temp_path_.c_str());
     std::remove((temp_path_ + "-journal").c_str());
@@ -46,6 +49,7 @@ void AtomicOutput::commit() {
     throw OutputError(target_ + ": cannot move the finished output into place: " + std::strerror(errno));
   }
   committed_ = true;
+  set_interrupt_cleanup_path(nullptr);
 }
 
 namespace {

@@ -29,6 +29,15 @@ bool read(std::span<const std::uint8_t> blob, std::size_t& offset, T& value) {
   return true;
 }
 
+void append_header(std::vector<std::uint8_t>& out, std::uint8_t flags, std::int32_t srs_id) {
+  // push_back rather than insert({...}): g++ 12 warns falsely (-Wstringop-overflow) on the latter.
+  out.push_back('G');
+  out.push_back('P');
+  out.push_back(0);  // version 1
+  out.push_back(flags);
+  append(out, srs_id);
+}
+
 /// Checks the GP header and returns the offset of the WKB, or 0 if malformed.
 std::size_t wkb_offset(std::span<const std::uint8_t> blob) {
   if (blob.size() < 8 || blob[0] != 'G' || blob[1] != 'P' || blob[2] != 0) return 0;
@@ -56,8 +65,7 @@ Envelope envelope_of(std::span<const PlanePoint> points) {
 std::vector<std::uint8_t> encode_linestring(std::span<const PlanePoint> points, std::int32_t srs_id) {
   std::vector<std::uint8_t> out;
   out.reserve(8 + 32 + 9 + points.size() * 16);
-  out.insert(out.end(), {'G', 'P', 0, kFlagsLittleEndianXyEnvelope});
-  append(out, srs_id);
+  append_header(out, kFlagsLittleEndianXyEnvelope, srs_id);
   const Envelope e = envelope_of(points);
   append(out, e.min_x);
   append(out, e.max_x);
@@ -75,8 +83,7 @@ std::vector<std::uint8_t> encode_linestring(std::span<const PlanePoint> points, 
 
 std::vector<std::uint8_t> encode_point(PlanePoint point, std::int32_t srs_id) {
   std::vector<std::uint8_t> out;
-  out.insert(out.end(), {'G', 'P', 0, kFlagsLittleEndianNoEnvelope});
-  append(out, srs_id);
+  append_header(out, kFlagsLittleEndianNoEnvelope, srs_id);
   out.push_back(1);
   append(out, kWkbPoint);
   append(out, point.x);

@@ -1,0 +1,14 @@
+// Ctrl-C (SIGINT), SIGTERM and SIGHUP during a build: remove the temporary output and exit with
+// a message, so an interrupted build never leaves a partial file behind. The target file, if
+// it existed before, is untouched (it is only ever replaced by rename on success).
+#pragma once
+
+namespace roadcross::preprocess {
+
+/// Installs the handlers. Call once from main() of a tool that writes via AtomicOutput.
+void install_interrupt_cleanup() noexcept;
+
+/// The temporary file the handlers remove (nullptr for none). Used by AtomicOutput.
+void set_interrupt_cleanup_path(const char* path) noexcept;
+
+}  // namespace roadcross::preprocess

@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Measures roadcross-build on the bundled maps: median wall time of N runs and peak memory
+# (max RSS). Usage: scripts/bench-build.sh [runs=5] [build-dir=build/release]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+runs=${1:-5}
+build_dir=${2:-build/release}
+tool="$build_dir/cli/roadcross-build"
+[[ -x "$tool" ]] || { echo "build $tool first (cmake --build --preset release)" >&2; exit 1; }
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+
+echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(date -u +%F)"
+printf '%-48s %10s %12s\n' "input (extra arguments)" "median s" "peak RSS MiB"
+bench() {
+  local label=$1; shift
+  local times=() rss=0
+  for ((i = 0; i < runs; i++)); do
+    /usr/bin/time -f '%e %M' -o "$out/time" "$tool" "$@" -o "$out/map.gpkg" -q
+    read -r seconds kib <"$out/time"
+    times+=("$seconds")
+    ((kib > rss)) && rss=$kib
+  done
+  local median
+  median=$(printf '%s\n' "${times[@]}" | sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}')
+  printf '%-48s %10s %12.1f\n' "$label" "$median" "$(echo "$rss / 1024" | bc -l)"
+}
+bench "prague (osm xml, 651 kB)" --osm maps/prague/prague_nove_mesto_roads_2017.osm "${@:3}"
+bench "monaco (pbf, 1.8 MB)" --osm maps/monaco/monaco.osm.pbf "${@:3}"
+bench "bayreuth (osm.gz, 1.4 MB)" --osm maps/bayreuth/north-bayreuth.osm.gz "${@:3}"
