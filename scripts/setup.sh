@@ -4,7 +4,7 @@
 set -euo pipefail
 
 packages=(
-  build-essential cmake pkg-config
+  build-essential cmake pkg-config ccache
   # preprocess (roadcross-build)
   libosmium2-dev libprotozero-dev libbz2-dev libexpat1-dev zlib1g-dev liblz4-dev
   libgdal-dev libcgal-dev libeigen3-dev libboost-dev
