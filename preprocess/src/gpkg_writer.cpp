@@ -8,12 +8,14 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <algorithm>
 #include <limits>
 #include <stdexcept>
 
 #include "roadcross/preprocess/errors.hpp"
 #include "roadcross/preprocess/interrupt.hpp"
 #include "roadcross/preprocess/progress.hpp"
+#include "roadcross/preprocess/rtree_bulk_load.hpp"
 #include "roadcross/schema/gpkg_geometry.hpp"
 #include "roadcross/schema/schema.hpp"
 #include "roadcross/schema/sqlite.hpp"
@@ -122,55 +124,64 @@ std::string insert_segment_sql() {
   return "INSERT INTO " + std::string(schema::kSegmentsTable) + " (" + names + ") VALUES (" + params + ")";
 }
 
+/// Inserts every segment row; returns the extent of all segments.
+schema::Envelope write_segment_rows(sqlite::Database& db, const RoadGraph& graph, Progress& progress) {
+  const std::int32_t srs_id = graph.zone.epsg();
+  sqlite::Statement insert = db.prepare(insert_segment_sql());
+  schema::Envelope extent{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+                          std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  std::size_t written = 0;
+  for (const Segment& s : graph.segments) {
+    bind_segment(insert, s, srs_id);
+    insert.run();
+    const schema::Envelope e = schema::envelope_of(s.points);
+    extent.min_x = std::min(extent.min_x, e.min_x);
+    extent.max_x = std::max(extent.max_x, e.max_x);
+    extent.min_y = std::min(extent.min_y, e.min_y);
+    extent.max_y = std::max(extent.max_y, e.max_y);
+    if (++written % 4096 == 0) progress.update(written, graph.segments.size());
+  }
+  return extent;
+}
+
+/// Fills the R*Tree with every segment's bounding box (bulk load: see rtree_bulk_load.hpp).
+void write_segment_rtree(sqlite::Database& db, const RoadGraph& graph) {
+  std::vector<RtreeEntry> entries;
+  entries.reserve(graph.segments.size());
+  for (const Segment& s : graph.segments) entries.push_back({s.id, schema::envelope_of(s.points)});
+  bulk_load_rtree(db.handle(), std::string(schema::kSegmentsRtree), entries);
+}
+
 }  // namespace
 
 void write_geopackage(const std::string& path, const DatabaseContents& contents, Progress& progress) {
   const RoadGraph& graph = *contents.graph;
   progress.start_stage("writing " + path);
   try {
-    sqlite::Database db(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
+    sqlite::Database db(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOMUTEX);
     // The file is private until renamed into place, so durability tricks are unnecessary:
     // no journal, no fsync; a fixed page size keeps the bytes identical across runs.
     db.exec("PRAGMA page_size = 4096");
     db.exec("PRAGMA journal_mode = OFF");
     db.exec("PRAGMA synchronous = OFF");
+    // The R*Tree and the table's B-tree stay in memory while they grow (256 MiB at most).
+    db.exec("PRAGMA cache_size = -262144");
     db.exec("BEGIN");
     for (const std::string& statement :
          schema::create_statements(graph.zone.zone, graph.zone.northern, contents.last_change)) {
       db.exec(statement);
     }
-    const std::int32_t srs_id = graph.zone.epsg();
-    sqlite::Statement insert = db.prepare(insert_segment_sql());
-    sqlite::Statement insert_rtree =
-        db.prepare("INSERT INTO " + std::string(schema::kSegmentsRtree) + " VALUES (?, ?, ?, ?, ?)");
-    double min_x = std::numeric_limits<double>::infinity(), min_y = min_x;
-    double max_x = -min_x, max_y = -min_x;
-    std::size_t written = 0;
-    for (const Segment& s : graph.segments) {
-      bind_segment(insert, s, srs_id);
-      insert.run();
-      const schema::Envelope e = schema::envelope_of(s.points);
-      insert_rtree.bind(1, s.id);
-      insert_rtree.bind(2, e.min_x);
-      insert_rtree.bind(3, e.max_x);
-      insert_rtree.bind(4, e.min_y);
-      insert_rtree.bind(5, e.max_y);
-      insert_rtree.run();
-      min_x = std::min(min_x, e.min_x);
-      max_x = std::max(max_x, e.max_x);
-      min_y = std::min(min_y, e.min_y);
-      max_y = std::max(max_y, e.max_y);
-      if (++written % 4096 == 0) progress.update(written, graph.segments.size());
-    }
+    const schema::Envelope extent = write_segment_rows(db, graph, progress);
+    write_segment_rtree(db, graph);
     {
-      auto extent = db.prepare(
+      auto update = db.prepare(
           "UPDATE gpkg_contents SET min_x = ?, min_y = ?, max_x = ?, max_y = ? WHERE table_name = ?");
-      extent.bind(1, min_x);
-      extent.bind(2, min_y);
-      extent.bind(3, max_x);
-      extent.bind(4, max_y);
-      extent.bind(5, schema::kSegmentsTable);
-      extent.run();
+      update.bind(1, extent.min_x);
+      update.bind(2, extent.min_y);
+      update.bind(3, extent.max_x);
+      update.bind(4, extent.max_y);
+      update.bind(5, schema::kSegmentsTable);
+      update.run();
     }
     for (const std::string& statement : schema::rtree_trigger_statements()) db.exec(statement);
 
@@ -187,8 +198,6 @@ void write_geopackage(const std::string& path, const DatabaseContents& contents,
     put(schema::meta::kSegmentCount, std::to_string(graph.segments.size()));
     for (const auto& [key, value] : contents.metadata) put(key, value);
     db.exec("COMMIT");
-    // Rewrites the file compactly in a canonical page order.
-    db.exec("VACUUM");
   } catch (const sqlite::sqlite_error& e) {
     throw OutputError(path + ": cannot write the database: " + e.what());
   }

@@ -3,8 +3,10 @@
 //
 //   make_tiled_osm INPUT.osm.pbf COPIES OUTPUT.osm.pbf [DEM_IN DEM_OUT.tif]
 //
-// Copy k (0-based) sits in column k % cols, row k / cols of a near-square grid; its objects get
-// id + k * stride (stride > largest id of the input, so ids never collide and stay sorted),
+// Copy k (0-based) sits in column k % cols, row k / cols of a near-square grid. Ids are fresh and
+// dense, as in a real planet file: an object's id is k * count + its rank among the input's
+// objects of its type + 1 (sparse ids would make id-set based tools such as osmium tags-filter
+// allocate for the whole id range), and stay sorted;
 // its locations are shifted by whole DEM pixels (1/1200 degree for SRTM3) so that the DEM
 // mosaic made from the same source window matches every copy exactly.
 #include <gdal_priv.h>
@@ -30,53 +32,53 @@ struct Layout {
   osmium::Box source_box;       // of the input's nodes
   double tile_width_deg = 0.0;  // whole DEM pixels, with a small gap
   double tile_height_deg = 0.0;
-  std::int64_t node_stride = 0, way_stride = 0, relation_stride = 0;
+  std::vector<std::int64_t> node_ids, way_ids, relation_ids;  // sorted input ids, for ranks
 
   double dlon(int k) const { return (k % columns) * tile_width_deg; }
   double dlat(int k) const { return (k / columns) * tile_height_deg; }
 };
 
-std::int64_t round_up_power_of_ten(std::int64_t value) {
-  std::int64_t p = 1;
-  while (p <= value) p *= 10;
-  return p;
-}
-
 Layout plan(const osmium::memory::Buffer& input, int copies) {
   Layout layout;
   layout.copies = copies;
   layout.columns = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(copies))));
-  std::int64_t max_node = 0, max_way = 0, max_relation = 0;
   for (const auto& object : input.select<osmium::OSMObject>()) {
     if (object.type() == osmium::item_type::node) {
       layout.source_box.extend(static_cast<const osmium::Node&>(object).location());
-      max_node = std::max(max_node, object.id());
+      layout.node_ids.push_back(object.id());
     } else if (object.type() == osmium::item_type::way) {
-      max_way = std::max(max_way, object.id());
+      layout.way_ids.push_back(object.id());
     } else {
-      max_relation = std::max(max_relation, object.id());
+      layout.relation_ids.push_back(object.id());
     }
   }
-  const auto whole_pixels = [](double degrees) { return std::ceil(degrees * kPixelsPerDegree + 12) / kPixelsPerDegree; };
-  layout.tile_width_deg = whole_pixels(layout.source_box.top_right().lon() - layout.source_box.bottom_left().lon());
-  layout.tile_height_deg = whole_pixels(layout.source_box.top_right().lat() - layout.source_box.bottom_left().lat());
-  layout.node_stride = round_up_power_of_ten(max_node);
-  layout.way_stride = round_up_power_of_ten(max_way);
-  layout.relation_stride = round_up_power_of_ten(std::max<std::int64_t>(max_relation, 1));
+  for (auto* ids : {&layout.node_ids, &layout.way_ids, &layout.relation_ids})
+    std::sort(ids->begin(), ids->end());
+  const auto whole_pixels = [](double degrees) {
+    return std::ceil(degrees * kPixelsPerDegree + 12) / kPixelsPerDegree;
+  };
+  layout.tile_width_deg =
+      whole_pixels(layout.source_box.top_right().lon() - layout.source_box.bottom_left().lon());
+  layout.tile_height_deg =
+      whole_pixels(layout.source_box.top_right().lat() - layout.source_box.bottom_left().lat());
   return layout;
 }
 
+/// The fresh id of input object `id` of `type` in copy k. References to objects missing from
+/// the input (members outside the extract) get ids past every copy's range.
 std::int64_t shifted_id(osmium::item_type type, std::int64_t id, int k, const Layout& layout) {
-  switch (type) {
-    case osmium::item_type::node: return id + k * layout.node_stride;
-    case osmium::item_type::way: return id + k * layout.way_stride;
-    default: return id + k * layout.relation_stride;
-  }
+  const std::vector<std::int64_t>& ids = type == osmium::item_type::node  ? layout.node_ids
+                                         : type == osmium::item_type::way ? layout.way_ids
+                                                                          : layout.relation_ids;
+  const auto count = static_cast<std::int64_t>(ids.size());
+  const auto it = std::lower_bound(ids.begin(), ids.end(), id);
+  if (it == ids.end() || *it != id) return count * layout.copies + 1 + (id % 1000000007);
+  return k * count + (it - ids.begin()) + 1;
 }
 
 /// Appends copy k of every object of `type` in `input` to `out`.
-void append_copy(const osmium::memory::Buffer& input, osmium::item_type type, int k, const Layout& layout,
-                 osmium::memory::Buffer& out) {
+void append_copy(const osmium::memory::Buffer& input, osmium::item_type type, int k,
+                 const Layout& layout, osmium::memory::Buffer& out) {
   for (const auto& object : input.select<osmium::OSMObject>()) {
     if (object.type() != type) continue;
     out.add_item(object);
@@ -88,7 +90,9 @@ void append_copy(const osmium::memory::Buffer& input, osmium::item_type type, in
       const osmium::Location l = node.location();
       node.set_location(osmium::Location{l.lon() + layout.dlon(k), l.lat() + layout.dlat(k)});
     } else if (type == osmium::item_type::way) {
-      for (auto& ref : static_cast<osmium::Way&>(copy).nodes()) ref.set_ref(ref.ref() + k * layout.node_stride);
+      for (auto& ref : static_cast<osmium::Way&>(copy).nodes()) {
+        ref.set_ref(shifted_id(osmium::item_type::node, ref.ref(), k, layout));
+      }
     } else {
       for (auto& member : static_cast<osmium::Relation&>(copy).members()) {
         member.set_ref(shifted_id(member.type(), member.ref(), k, layout));
@@ -101,7 +105,8 @@ void write_osm(const osmium::memory::Buffer& input, const Layout& layout, const 
   osmium::io::Header header;
   header.set("generator", "roadcross make_tiled_osm");
   osmium::io::Writer writer{path, header, osmium::io::overwrite::allow};
-  for (osmium::item_type type : {osmium::item_type::node, osmium::item_type::way, osmium::item_type::relation}) {
+  for (osmium::item_type type :
+       {osmium::item_type::node, osmium::item_type::way, osmium::item_type::relation}) {
     for (int k = 0; k < layout.copies; ++k) {
       osmium::memory::Buffer out{input.committed() + 1024, osmium::memory::Buffer::auto_grow::yes};
       append_copy(input, type, k, layout, out);
@@ -124,11 +129,15 @@ void write_dem(const std::string& dem_in, const std::string& dem_out, const Layo
   const int tile_cols = static_cast<int>(std::lround(layout.tile_width_deg / gt[1]));
   const int tile_rows = static_cast<int>(std::lround(layout.tile_height_deg / -gt[5]));
   // Window origin: the pixel containing the box's west/north edge, minus a 6-pixel margin.
-  const int x0 = std::max(0, static_cast<int>(std::floor((layout.source_box.bottom_left().lon() - gt[0]) / gt[1])) - 6);
-  const int y0 = std::max(0, static_cast<int>(std::floor((layout.source_box.top_right().lat() - gt[3]) / gt[5])) - 6);
-  const int cols = std::min(tile_cols, band->GetXSize() - x0), rows = std::min(tile_rows, band->GetYSize() - y0);
+  const int x0 = std::max(
+      0, static_cast<int>(std::floor((layout.source_box.bottom_left().lon() - gt[0]) / gt[1])) - 6);
+  const int y0 = std::max(
+      0, static_cast<int>(std::floor((layout.source_box.top_right().lat() - gt[3]) / gt[5])) - 6);
+  const int cols = std::min(tile_cols, band->GetXSize() - x0),
+            rows = std::min(tile_rows, band->GetYSize() - y0);
   std::vector<float> window(static_cast<std::size_t>(cols) * rows);
-  if (band->RasterIO(GF_Read, x0, y0, cols, rows, window.data(), cols, rows, GDT_Float32, 0, 0) != CE_None) {
+  if (band->RasterIO(GF_Read, x0, y0, cols, rows, window.data(), cols, rows, GDT_Float32, 0, 0) !=
+      CE_None) {
     throw std::runtime_error(dem_in + ": read failed");
   }
   const int grid_rows = (layout.copies + layout.columns - 1) / layout.columns;
@@ -144,21 +153,25 @@ void write_dem(const std::string& dem_in, const std::string& dem_out, const Layo
   // Row 0 of the copies is the southernmost: the mosaic's top-left is the last row's window.
   const double west = gt[0] + x0 * gt[1];
   const double north_of_source = gt[3] + y0 * gt[5];
-  double out_gt[6] = {west, gt[1], 0.0, north_of_source + (grid_rows - 1) * layout.tile_height_deg, 0.0, gt[5]};
+  double out_gt[6] = {west, gt[1], 0.0, north_of_source + (grid_rows - 1) * layout.tile_height_deg,
+                      0.0,  gt[5]};
   out->SetGeoTransform(out_gt);
   out->SetProjection(source->GetProjectionRef());
   GDALRasterBand* out_band = out->GetRasterBand(1);
   out_band->SetNoDataValue(has_nodata ? nodata : -32768.0);
-  std::vector<float> fill(static_cast<std::size_t>(out_cols), has_nodata ? static_cast<float>(nodata) : -32768.0f);
+  std::vector<float> fill(static_cast<std::size_t>(out_cols),
+                          has_nodata ? static_cast<float>(nodata) : -32768.0f);
   for (int r = 0; r < out_rows; ++r) {
-    if (out_band->RasterIO(GF_Write, 0, r, out_cols, 1, fill.data(), out_cols, 1, GDT_Float32, 0, 0) != CE_None) {
+    if (out_band->RasterIO(GF_Write, 0, r, out_cols, 1, fill.data(), out_cols, 1, GDT_Float32, 0,
+                           0) != CE_None) {
       throw std::runtime_error(dem_out + ": write failed");
     }
   }
   for (int k = 0; k < layout.copies; ++k) {
     const int xo = (k % layout.columns) * tile_cols;
     const int yo = (grid_rows - 1 - k / layout.columns) * tile_rows;
-    if (out_band->RasterIO(GF_Write, xo, yo, cols, rows, window.data(), cols, rows, GDT_Float32, 0, 0) != CE_None) {
+    if (out_band->RasterIO(GF_Write, xo, yo, cols, rows, window.data(), cols, rows, GDT_Float32, 0,
+                           0) != CE_None) {
       throw std::runtime_error(dem_out + ": write failed");
     }
   }
@@ -170,7 +183,8 @@ void write_dem(const std::string& dem_in, const std::string& dem_out, const Layo
 
 int main(int argc, char** argv) {
   if (argc != 4 && argc != 6) {
-    std::fprintf(stderr, "usage: make_tiled_osm INPUT COPIES OUTPUT.osm.pbf [DEM_IN DEM_OUT.tif]\n");
+    std::fprintf(stderr,
+                 "usage: make_tiled_osm INPUT COPIES OUTPUT.osm.pbf [DEM_IN DEM_OUT.tif]\n");
     return 2;
   }
   try {
@@ -188,8 +202,8 @@ int main(int argc, char** argv) {
     const Layout layout = plan(input, copies);
     write_osm(input, layout, argv[3]);
     if (argc == 6) write_dem(argv[4], argv[5], layout);
-    std::printf("%s: %d copies in %d columns, tile %.4f x %.4f deg\n", argv[3], copies, layout.columns,
-                layout.tile_width_deg, layout.tile_height_deg);
+    std::printf("%s: %d copies in %d columns, tile %.4f x %.4f deg\n", argv[3], copies,
+                layout.columns, layout.tile_width_deg, layout.tile_height_deg);
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "make_tiled_osm: %s\n", e.what());

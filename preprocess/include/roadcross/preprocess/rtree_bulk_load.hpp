@@ -1,0 +1,29 @@
+// Bulk load of an SQLite R*Tree (the GeoPackage spatial index) by writing a packed Hilbert
+// R-tree straight into the virtual table's shadow tables (<name>_node, _rowid, _parent).
+// SQLite's own one-row-at-a-time insert costs ~8 us per entry (15 s for 1.85 M segments);
+// this costs well under 1 us per entry and gives full, spatially tight nodes. GDAL's GPKG
+// driver loads its R-trees the same way. The layout follows SQLite's ext/rtree/rtree.c and is
+// verified with SQLite's own rtreecheck() in the tests.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "roadcross/schema/gpkg_geometry.hpp"
+
+struct sqlite3;
+
+namespace roadcross::preprocess {
+
+struct RtreeEntry {
+  std::int64_t id = 0;
+  schema::Envelope box;
+};
+
+/// Fills the empty 2-D R*Tree virtual table `rtree_name` (created with CREATE VIRTUAL TABLE ...
+/// USING rtree(id, minx, maxx, miny, maxy) in `db`, nothing inserted yet) with `entries`.
+/// Entries are reordered. Throws sqlite::sqlite_error on failure.
+void bulk_load_rtree(sqlite3* db, const std::string& rtree_name, std::vector<RtreeEntry>& entries);
+
+}  // namespace roadcross::preprocess
