@@ -13,7 +13,7 @@ packages=(
   # cli and tests
   libcli11-dev nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev
   # checking tools used by tests and benchmarks
-  osmium-tool gdal-bin sqlite3 time bc
+  osmium-tool gdal-bin sqlite3 time bc gnuplot-nox
 )
 
 missing=()

@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# Scale benchmark (issue 8): tiles the bundled Monaco extract (full OSM data: buildings,
+# footways, tunnels) 1x, 10x, 50x and 200x with fresh ids and a matching DEM mosaic, then times
+# `osmium tags-filter FILE w/highway` and roadcross-build (without and with the DEM) on each, in
+# the same run. Writes docs/scale.csv and docs/scale.png (gnuplot).
+# Usage: scripts/bench-scale.sh [sizes="1 10 50 200"] [build-dir=build/release]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+sizes=${1:-"1 10 50 200"}
+build_dir=${2:-build/release}
+tool="$build_dir/cli/roadcross-build"
+make_tiled="$build_dir/tests/benchmarks/make_tiled_osm"
+for f in "$tool" "$make_tiled"; do [[ -x "$f" ]] || { echo "build $f first" >&2; exit 1; }; done
+work=${BENCH_WORK_DIR:-$(mktemp -d)}
+trap '[[ -z "${BENCH_WORK_DIR:-}" ]] && rm -rf "$work"' EXIT
+with_dem=0
+if "$tool" --help | grep -q -- '--elevation'; then with_dem=1; fi
+
+# measure LABEL CMD...: prints "seconds peak_kib" of one run.
+measure() {
+  /usr/bin/time -f '%e %M' -o "$work/time" "$@" >/dev/null 2>"$work/stderr" || { cat "$work/stderr" >&2; return 1; }
+  cat "$work/time"
+}
+
+echo "# machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(date -u +%F)"
+echo "copies,pbf_bytes,osmium_s,osmium_kib,build_s,build_kib,build_dem_s,build_dem_kib,segments" | tee "$work/scale.csv"
+for n in $sizes; do
+  "$make_tiled" maps/monaco/monaco.osm.pbf "$n" "$work/m$n.osm.pbf" maps/monaco/N43E007.hgt "$work/m$n.tif" >/dev/null
+  read -r osmium_s osmium_kib < <(measure osmium tags-filter "$work/m$n.osm.pbf" w/highway -o "$work/f.osm.pbf" --overwrite)
+  read -r build_s build_kib < <(measure "$tool" --osm "$work/m$n.osm.pbf" -o "$work/m$n.gpkg" -q)
+  segments=$(sqlite3 "$work/m$n.gpkg" "SELECT count(*) FROM segments")
+  dem_s="" dem_kib=""
+  if ((with_dem)); then
+    read -r dem_s dem_kib < <(measure "$tool" --osm "$work/m$n.osm.pbf" --elevation "$work/m$n.tif" -o "$work/m${n}dem.gpkg" -q)
+  fi
+  echo "$n,$(stat -c %s "$work/m$n.osm.pbf"),$osmium_s,$osmium_kib,$build_s,$build_kib,$dem_s,$dem_kib,$segments" | tee -a "$work/scale.csv"
+  rm -f "$work/m$n.gpkg" "$work/m${n}dem.gpkg"
+done
+cp "$work/scale.csv" docs/scale.csv
+if command -v gnuplot >/dev/null; then
+  gnuplot <<GNUPLOT
+set terminal pngcairo size 900,420 font ",10"
+set output "docs/scale.png"
+set datafile separator ","
+set key autotitle columnhead left top
+set multiplot layout 1,2
+set logscale xy
+set xlabel "copies of the Monaco extract"
+set ylabel "wall time, s"
+set grid
+plot "docs/scale.csv" using 1:5 with linespoints title "roadcross-build", \
+     "" using 1:3 with linespoints title "osmium tags-filter w/highway", \
+     "" using 1:7 with linespoints title "roadcross-build --elevation"
+set ylabel "peak RSS, MiB"
+plot "docs/scale.csv" using 1:(\$6/1024) with linespoints title "roadcross-build", \
+     "" using 1:(\$4/1024) with linespoints title "osmium tags-filter", \
+     "" using 1:(\$8/1024) with linespoints title "roadcross-build --elevation"
+unset multiplot
+GNUPLOT
+fi
