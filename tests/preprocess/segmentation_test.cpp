@@ -1,0 +1,208 @@
+// Reading and segmentation on tiny hand-written OSM files. Expected lengths come from PROJ:
+//   printf "14.4 50.0\n14.4013 50.0\n" | gdaltransform -s_srs EPSG:4326 -t_srs EPSG:32633
+//   -> 456999.890393961 5538803.17916943 and 457093.056712431 5538802.43257169
+// so that way is hypot(93.166318, -0.746598) = 93.1693 m long in the DB's UTM zone 33N.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "osm_fixture.hpp"
+#include "roadcross/preprocess/errors.hpp"
+#include "roadcross/preprocess/progress.hpp"
+#include "roadcross/preprocess/road_network.hpp"
+#include "roadcross/preprocess/segments.hpp"
+
+namespace rp = roadcross::preprocess;
+namespace rt = roadcross::testing;
+
+namespace {
+
+constexpr double kStraightLength_m = 93.16930;  // see the header comment
+
+struct Built {
+  rp::RoadNetwork network;
+  rp::RoadGraph graph;
+};
+
+Built build(const std::string& body, double max_segment_length_m = 10.0) {
+  rt::TempDir dir;
+  const std::string path = dir.write("test.osm", rt::osm_document(body));
+  rp::Progress quiet(false);
+  Built out{rp::read_road_network(path, quiet), {}};
+  out.graph =
+      rp::build_road_graph(out.network, rp::choose_utm_zone(out.network), max_segment_length_m);
+  return out;
+}
+
+int degree(const rp::RoadGraph& graph, std::int64_t node) {
+  auto it = graph.degree.find(node);
+  return it == graph.degree.end() ? 0 : it->second;
+}
+
+TEST(Segmentation, StraightWayIsCutIntoEqualSegments) {
+  const Built b = build(rt::osm_node(1, 50.0, 14.4) + rt::osm_node(2, 50.0, 14.4013) +
+                        rt::osm_way(10, "1 2", "highway=residential;name=Straight"));
+  EXPECT_EQ(b.graph.zone, (roadcross::geo::UtmZone{33, true}));
+  ASSERT_EQ(b.graph.pieces.size(), 1u);
+  EXPECT_NEAR(b.graph.pieces[0].length_m, kStraightLength_m, 1e-3);
+  // ceil(93.169 / 10) = 10 segments of 9.3169 m.
+  ASSERT_EQ(b.graph.segments.size(), 10u);
+  for (const rp::Segment& s : b.graph.segments) {
+    EXPECT_NEAR(s.length_m, kStraightLength_m / 10, 1e-4);
+    EXPECT_NEAR(rp::polyline_length_m(s.points), s.length_m, 1e-6);
+    EXPECT_EQ(s.osm_way_id, 10);
+    EXPECT_EQ(s.highway, "residential");
+    EXPECT_EQ(s.name, "Straight");
+  }
+  // Consecutive segments share their end points and graph nodes; the ends are OSM nodes 1, 2.
+  EXPECT_EQ(b.graph.segments.front().from_node_id, 1);
+  EXPECT_EQ(b.graph.segments.back().to_node_id, 2);
+  for (std::size_t i = 1; i < b.graph.segments.size(); ++i) {
+    EXPECT_EQ(b.graph.segments[i].from_node_id, b.graph.segments[i - 1].to_node_id);
+    EXPECT_LT(b.graph.segments[i].from_node_id, 0);  // a split point, not an OSM node
+    EXPECT_EQ(b.graph.segments[i].points.front().x, b.graph.segments[i - 1].points.back().x);
+  }
+  EXPECT_EQ(degree(b.graph, 1), 1);
+  EXPECT_EQ(degree(b.graph, 2), 1);
+}
+
+TEST(Segmentation, MaxSegmentLengthIsRespected) {
+  // 93.169 m with a 50 m limit -> 2 segments; with 100 m -> 1.
+  const std::string body = rt::osm_node(1, 50.0, 14.4) + rt::osm_node(2, 50.0, 14.4013) +
+                           rt::osm_way(10, "1 2", "highway=residential");
+  EXPECT_EQ(build(body, 50.0).graph.segments.size(), 2u);
+  EXPECT_EQ(build(body, 100.0).graph.segments.size(), 1u);
+}
+
+TEST(Segmentation, InteriorVerticesAreKept) {
+  // A way with a kink at node 2 (1 -> 2 east, 2 -> 3 north, ~0.0005 deg each): one piece,
+  // and the segment containing node 2 keeps it as a vertex, so no corner is cut.
+  const Built b =
+      build(rt::osm_node(1, 50.0, 14.4) + rt::osm_node(2, 50.0, 14.4005) +
+            rt::osm_node(3, 50.0005, 14.4005) + rt::osm_way(10, "1 2 3", "highway=service"));
+  ASSERT_EQ(b.graph.pieces.size(), 1u);
+  double total = 0;
+  bool kink_kept = false;
+  for (const rp::Segment& s : b.graph.segments) {
+    total += s.length_m;
+    EXPECT_NEAR(rp::polyline_length_m(s.points), s.length_m, 1e-6);
+    if (s.points.size() == 3) kink_kept = true;
+  }
+  EXPECT_NEAR(total, b.graph.pieces[0].length_m, 1e-6);
+  EXPECT_TRUE(kink_kept);
+}
+
+TEST(Segmentation, TJunctionWhereAWayEndsOnAnotherInterior) {
+  // Way 10: 1 - 2 - 3 (east-west); way 20: 2 - 4 ends on 10's interior node 2.
+  // Node 2 is matched by id: way 10 is split there (2 pieces), way 20 is 1 piece.
+  // Degrees: node 2 = 2 (way 10 passes) + 1 (way 20 ends) = 3 -> a junction.
+  const Built b = build(rt::osm_node(1, 50.0, 14.399) + rt::osm_node(2, 50.0, 14.4) +
+                        rt::osm_node(3, 50.0, 14.401) + rt::osm_node(4, 50.001, 14.4) +
+                        rt::osm_way(10, "1 2 3", "highway=secondary") +
+                        rt::osm_way(20, "2 4", "highway=residential"));
+  EXPECT_EQ(b.graph.pieces.size(), 3u);
+  EXPECT_EQ(degree(b.graph, 2), 3);
+  EXPECT_EQ(degree(b.graph, 1), 1);
+  EXPECT_EQ(degree(b.graph, 3), 1);
+  EXPECT_EQ(degree(b.graph, 4), 1);
+}
+
+TEST(Segmentation, TwoCoincidentNodesWithDifferentIdsAreNotAJunction) {
+  // Node 5 sits exactly where node 2 is but is a different OSM node: no topology (matching on
+  // coordinates would wrongly join the ways).
+  const Built b =
+      build(rt::osm_node(1, 50.0, 14.399) + rt::osm_node(2, 50.0, 14.4) +
+            rt::osm_node(3, 50.0, 14.401) + rt::osm_node(5, 50.0, 14.4) +
+            rt::osm_node(4, 50.001, 14.4) + rt::osm_way(10, "1 2 3", "highway=secondary") +
+            rt::osm_way(20, "5 4", "highway=residential"));
+  EXPECT_EQ(b.graph.pieces.size(), 2u);
+  EXPECT_EQ(degree(b.graph, 2), 0);  // interior of way 10, not a graph node
+  EXPECT_EQ(degree(b.graph, 5), 1);
+}
+
+TEST(Segmentation, CrossingWaysMakeADegreeFourNode) {
+  const Built b = build(
+      rt::osm_node(1, 50.0, 14.399) + rt::osm_node(2, 50.0, 14.4) + rt::osm_node(3, 50.0, 14.401) +
+      rt::osm_node(4, 50.001, 14.4) + rt::osm_node(5, 49.999, 14.4) +
+      rt::osm_way(10, "1 2 3", "highway=tertiary") + rt::osm_way(20, "4 2 5", "highway=tertiary"));
+  EXPECT_EQ(b.graph.pieces.size(), 4u);
+  EXPECT_EQ(degree(b.graph, 2), 4);
+}
+
+TEST(Segmentation, WaysJoinedEndToEndAreNotAJunction) {
+  const Built b =
+      build(rt::osm_node(1, 50.0, 14.399) + rt::osm_node(2, 50.0, 14.4) +
+            rt::osm_node(3, 50.0, 14.401) + rt::osm_way(10, "1 2", "highway=residential") +
+            rt::osm_way(20, "2 3", "highway=residential"));
+  EXPECT_EQ(b.graph.pieces.size(), 2u);
+  EXPECT_EQ(degree(b.graph, 2), 2);
+}
+
+TEST(Segmentation, ClosedRingIsOnePieceWithoutJunction) {
+  const Built b = build(rt::osm_node(1, 50.0, 14.4) + rt::osm_node(2, 50.0, 14.401) +
+                        rt::osm_node(3, 50.001, 14.401) + rt::osm_node(4, 50.001, 14.4) +
+                        rt::osm_way(10, "1 2 3 4 1", "highway=residential;junction=roundabout"));
+  ASSERT_EQ(b.graph.pieces.size(), 1u);
+  EXPECT_EQ(b.graph.pieces[0].from_node_id, 1);
+  EXPECT_EQ(b.graph.pieces[0].to_node_id, 1);
+  EXPECT_EQ(degree(b.graph, 1), 2);
+  EXPECT_TRUE(b.graph.segments.front().oneway);  // roundabouts are one-way
+}
+
+TEST(Segmentation, MissingNodeSplitsTheWayAndIsCounted) {
+  // Node 99 is referenced but not in the file (cut off by the extract). 1-2 stays a piece,
+  // 3 alone is dropped.
+  const Built b =
+      build(rt::osm_node(1, 50.0, 14.399) + rt::osm_node(2, 50.0, 14.4) +
+            rt::osm_node(3, 50.0, 14.401) + rt::osm_way(10, "1 2 99 3", "highway=residential"));
+  EXPECT_EQ(b.network.missing_locations, 1u);
+  EXPECT_EQ(b.graph.dropped_node_refs, 1u);
+  ASSERT_EQ(b.graph.pieces.size(), 1u);
+  EXPECT_EQ(b.graph.pieces[0].to_node_id, 2);
+}
+
+TEST(Segmentation, NonRoadsAreIgnored) {
+  const std::string nodes =
+      rt::osm_node(1, 50.0, 14.399) + rt::osm_node(2, 50.0, 14.4) + rt::osm_node(3, 50.0, 14.401);
+  const Built b =
+      build(nodes + rt::osm_way(10, "1 2", "highway=residential") +
+            rt::osm_way(11, "2 3", "highway=footway;footway=crossing") +
+            rt::osm_way(12, "2 3", "highway=cycleway") + rt::osm_way(13, "2 3", "highway=path") +
+            rt::osm_way(14, "2 3", "highway=steps") + rt::osm_way(15, "2 3", "highway=track") +
+            rt::osm_way(16, "2 3", "highway=construction") +
+            rt::osm_way(17, "1 2 3 1", "highway=service;area=yes") +
+            rt::osm_way(18, "2 3", "building=yes"));
+  ASSERT_EQ(b.network.ways.size(), 1u);
+  EXPECT_EQ(b.network.ways[0].osm_id, 10);
+  EXPECT_EQ(b.network.ways_read, 9u);
+  EXPECT_EQ(degree(b.graph, 2), 1);  // the footway etc. do not make node 2 a junction
+}
+
+TEST(Segmentation, KeptRoadClasses) {
+  for (const char* kept :
+       {"motorway", "trunk_link", "primary", "secondary_link", "tertiary", "unclassified",
+        "residential", "service", "busway", "road", "living_street"}) {
+    EXPECT_TRUE(rp::is_kept_road_class(kept)) << kept;
+  }
+  for (const char* ignored : {"footway", "cycleway", "path", "steps", "track", "construction",
+                              "pedestrian", "bridleway", "proposed", ""}) {
+    EXPECT_FALSE(rp::is_kept_road_class(ignored)) << ignored;
+  }
+}
+
+TEST(Segmentation, FileWithoutRoadsIsAnError) {
+  rt::TempDir dir;
+  const std::string path = dir.write(
+      "no_roads.osm", rt::osm_document(rt::osm_node(1, 50.0, 14.4) + rt::osm_node(2, 50.0, 14.401) +
+                                       rt::osm_way(10, "1 2", "highway=footway")));
+  rp::Progress quiet(false);
+  try {
+    rp::read_road_network(path, quiet);
+    FAIL() << "expected InputError";
+  } catch (const rp::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("none is a road"), std::string::npos);
+  }
+}
+
+}  // namespace
