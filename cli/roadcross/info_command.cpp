@@ -7,7 +7,8 @@
 namespace roadcross::cli {
 
 InfoCommand::InfoCommand(CLI::App& parent) {
-  app_ = parent.add_subcommand("info", "show a map's UTM zone, extent, segment count, parameters and inputs");
+  app_ = parent.add_subcommand(
+      "info", "show a map's UTM zone, extent, segment count, parameters and inputs");
   app_->add_option("db", db_path_, "roadcross GeoPackage")->required();
   app_->add_flag("--json", json_, "print JSON instead of text");
 }
@@ -39,12 +40,13 @@ int InfoCommand::run() {
   std::printf("CRS             WGS 84 / UTM zone %d%s (EPSG:%d)\n", info.zone.zone,
               info.zone.northern ? "N" : "S", info.epsg);
   std::printf("segments        %lld\n", static_cast<long long>(info.segment_count));
-  std::printf("extent          E %.1f .. %.1f, N %.1f .. %.1f (%.2f x %.2f km)\n", info.min_easting_m,
-              info.max_easting_m, info.min_northing_m, info.max_northing_m,
+  std::printf("extent          E %.1f .. %.1f, N %.1f .. %.1f (%.2f x %.2f km)\n",
+              info.min_easting_m, info.max_easting_m, info.min_northing_m, info.max_northing_m,
               (info.max_easting_m - info.min_easting_m) / 1000.0,
               (info.max_northing_m - info.min_northing_m) / 1000.0);
   std::printf("metadata\n");
-  for (const auto& [key, value] : info.metadata) std::printf("  %-28s %s\n", key.c_str(), value.c_str());
+  for (const auto& [key, value] : info.metadata)
+    std::printf("  %-28s %s\n", key.c_str(), value.c_str());
   return 0;
 }
 

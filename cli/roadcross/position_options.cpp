@@ -8,15 +8,17 @@ void QueryOptions::add_to(CLI::App& command) {
   command.add_option("--db", db_path, "roadcross GeoPackage built by roadcross-build")->required();
   auto* lat = command.add_option("--lat", lat_deg, "WGS84 latitude, degrees");
   auto* lon = command.add_option("--lon", lon_deg, "WGS84 longitude, degrees");
-  auto* utm_option = command.add_option("--utm", utm, "UTM easting and northing in the DB's zone, metres")
-                         ->expected(2)
-                         ->type_name("E N");
+  auto* utm_option =
+      command.add_option("--utm", utm, "UTM easting and northing in the DB's zone, metres")
+          ->expected(2)
+          ->type_name("E N");
   lat->needs(lon);
   lon->needs(lat);
   utm_option->excludes(lat)->excludes(lon);
   command.callback([this, &command] {
     if (utm.empty() && !lat_deg) {
-      throw CLI::RequiredError(command.get_name() + ": give a position with --lat/--lon or --utm E N");
+      throw CLI::ValidationError(command.get_name(),
+                                 "give a position with --lat/--lon or --utm E N");
     }
   });
   command.add_flag("--json", json, "print JSON instead of text");

@@ -21,8 +21,8 @@ nlohmann::ordered_json road_json(const NearestRoad& road) {
 
 std::string road_label(const NearestRoad& road) {
   const std::string name = road.name.empty() ? "(unnamed)" : road.name;
-  return name + " (" + road.highway + ", OSM way " + std::to_string(road.osm_way_id) + ", segment " +
-         std::to_string(road.segment_id) + ")";
+  return name + " (" + road.highway + ", OSM way " + std::to_string(road.osm_way_id) +
+         ", segment " + std::to_string(road.segment_id) + ")";
 }
 
 int report_error(const Status& status) {
@@ -35,7 +35,8 @@ int report_error(const Status& status) {
 NearestCommand::NearestCommand(CLI::App& parent) {
   app_ = parent.add_subcommand("nearest", "the road centreline nearest to a position");
   query_.add_to(*app_);
-  app_->add_option("--max-distance", max_distance_m_, "search radius, metres")->capture_default_str();
+  app_->add_option("--max-distance", max_distance_m_, "search radius, metres")
+      ->capture_default_str();
 }
 
 int NearestCommand::run() {
@@ -50,14 +51,16 @@ int NearestCommand::run() {
   std::printf("road      %s\n", road_label(*road).c_str());
   std::printf("distance  %.2f m\n", road->distance_m);
   std::printf("closest   E %.2f N %.2f (UTM zone %d%s)\n", road->closest.easting_m,
-              road->closest.northing_m, map->info().zone.zone, map->info().zone.northern ? "N" : "S");
+              road->closest.northing_m, map->info().zone.zone,
+              map->info().zone.northern ? "N" : "S");
   return 0;
 }
 
 HeadingCommand::HeadingCommand(CLI::App& parent) {
   app_ = parent.add_subcommand("heading", "the road's direction and the heading that crosses it");
   query_.add_to(*app_);
-  app_->add_option("--max-distance", max_distance_m_, "search radius, metres")->capture_default_str();
+  app_->add_option("--max-distance", max_distance_m_, "search radius, metres")
+      ->capture_default_str();
 }
 
 int HeadingCommand::run() {
@@ -76,13 +79,16 @@ int HeadingCommand::run() {
     std::cout << out.dump(2) << "\n";
     return 0;
   }
-  std::printf("road      %s, %.2f m away\n", road_label(heading->road).c_str(), heading->road.distance_m);
+  std::printf("road      %s, %.2f m away\n", road_label(heading->road).c_str(),
+              heading->road.distance_m);
   std::printf("road      yaw %+.4f rad ENU (bearing %5.1f deg)\n", heading->road_heading_rad,
               heading->road_bearing_deg);
-  std::printf("cross     yaw %+.4f rad ENU (bearing %5.1f deg)%s\n", heading->crossing_heading_rad,
-              heading->crossing_bearing_deg,
-              heading->on_centreline ? ", on the centreline: side unknown" : ", from this side across");
-  std::printf("frame     UTM grid; add %+.5f rad for a yaw from true east\n", heading->convergence_rad);
+  std::printf(
+      "cross     yaw %+.4f rad ENU (bearing %5.1f deg)%s\n", heading->crossing_heading_rad,
+      heading->crossing_bearing_deg,
+      heading->on_centreline ? ", on the centreline: side unknown" : ", from this side across");
+  std::printf("frame     UTM grid; add %+.5f rad for a yaw from true east\n",
+              heading->convergence_rad);
   return 0;
 }
 

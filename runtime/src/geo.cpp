@@ -3,10 +3,18 @@
 #include <GeographicLib/UTMUPS.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
 namespace roadcross::geo {
+namespace {
+std::string format_deg(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.7g", value);
+  return text;
+}
+}  // namespace
 
 double normalize_angle_rad(double angle_rad) noexcept {
   if (!std::isfinite(angle_rad)) return angle_rad;
@@ -30,8 +38,12 @@ double enu_to_ned_yaw_rad(double yaw_enu_rad) noexcept {
   return normalize_angle_rad(kPi / 2.0 - yaw_enu_rad);
 }
 
-double deg_to_rad(double angle_deg) noexcept { return angle_deg * (kPi / 180.0); }
-double rad_to_deg(double angle_rad) noexcept { return angle_rad * (180.0 / kPi); }
+double deg_to_rad(double angle_deg) noexcept {
+  return angle_deg * (kPi / 180.0);
+}
+double rad_to_deg(double angle_rad) noexcept {
+  return angle_rad * (180.0 / kPi);
+}
 
 double yaw_rad_to_bearing_deg(double yaw_enu_rad) noexcept {
   double bearing = std::fmod(90.0 - rad_to_deg(yaw_enu_rad), 360.0);
@@ -55,16 +67,16 @@ bool is_valid_utm_lat_lon(double lat_deg, double lon_deg) noexcept {
 
 UtmZone standard_utm_zone(double lat_deg, double lon_deg) {
   if (!is_valid_utm_lat_lon(lat_deg, lon_deg)) {
-    throw std::invalid_argument("position " + std::to_string(lat_deg) + ", " +
-                                std::to_string(lon_deg) + " is outside the UTM domain");
+    throw std::invalid_argument("position " + format_deg(lat_deg) + ", " + format_deg(lon_deg) +
+                                " is outside the UTM domain");
   }
   return UtmZone{GeographicLib::UTMUPS::StandardZone(lat_deg, lon_deg), lat_deg >= 0.0};
 }
 
 UtmPoint wgs84_to_utm(double lat_deg, double lon_deg, UtmZone zone) {
   if (!is_valid_utm_lat_lon(lat_deg, lon_deg)) {
-    throw std::invalid_argument("latitude " + std::to_string(lat_deg) + ", longitude " +
-                                std::to_string(lon_deg) +
+    throw std::invalid_argument("latitude " + format_deg(lat_deg) + ", longitude " +
+                                format_deg(lon_deg) +
                                 " is not a WGS84 position in the UTM domain (lat -80..84, lon "
                                 "-180..180)");
   }
@@ -72,9 +84,9 @@ UtmPoint wgs84_to_utm(double lat_deg, double lon_deg, UtmZone zone) {
   const double central_meridian_deg = 6.0 * zone.zone - 183.0;
   double delta_lon = std::fmod(lon_deg - central_meridian_deg + 540.0, 360.0) - 180.0;
   if (std::abs(delta_lon) > 6.5) {
-    throw std::invalid_argument("longitude " + std::to_string(lon_deg) + " is too far from UTM zone " +
+    throw std::invalid_argument("longitude " + format_deg(lon_deg) + " is too far from UTM zone " +
                                 std::to_string(zone.zone) + " (central meridian " +
-                                std::to_string(central_meridian_deg) + ")");
+                                format_deg(central_meridian_deg) + ")");
   }
   UtmPoint out;
   int zone_out = 0;

@@ -2,8 +2,9 @@
 
 #include <algorithm>
 #include <charconv>
-#include <limits>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <utility>
 
 #include "polyline.hpp"
@@ -16,14 +17,22 @@ namespace roadcross {
 
 const char* to_string(StatusCode code) noexcept {
   switch (code) {
-    case StatusCode::ok: return "ok";
-    case StatusCode::file_not_found: return "file_not_found";
-    case StatusCode::not_a_database: return "not_a_database";
-    case StatusCode::wrong_version: return "wrong_version";
-    case StatusCode::corrupt_database: return "corrupt_database";
-    case StatusCode::invalid_argument: return "invalid_argument";
-    case StatusCode::not_found: return "not_found";
-    case StatusCode::internal: return "internal";
+    case StatusCode::ok:
+      return "ok";
+    case StatusCode::file_not_found:
+      return "file_not_found";
+    case StatusCode::not_a_database:
+      return "not_a_database";
+    case StatusCode::wrong_version:
+      return "wrong_version";
+    case StatusCode::corrupt_database:
+      return "corrupt_database";
+    case StatusCode::invalid_argument:
+      return "invalid_argument";
+    case StatusCode::not_found:
+      return "not_found";
+    case StatusCode::internal:
+      return "internal";
   }
   return "unknown";
 }
@@ -31,7 +40,8 @@ const char* to_string(StatusCode code) noexcept {
 namespace {
 
 constexpr const char* kRebuildHint =
-    "Rebuild it with this version's roadcross-build (roadcross-build --osm MAP.osm.pbf -o OUT.gpkg).";
+    "Rebuild it with this version's roadcross-build (roadcross-build --osm MAP.osm.pbf -o "
+    "OUT.gpkg).";
 
 template <typename T>
 Result<T> fail(StatusCode code, std::string message) {
@@ -75,7 +85,9 @@ Map::Map(Map&&) noexcept = default;
 Map& Map::operator=(Map&&) noexcept = default;
 Map::~Map() = default;
 
-const MapInfo& Map::info() const noexcept { return impl_->info; }
+const MapInfo& Map::info() const noexcept {
+  return impl_->info;
+}
 
 namespace {
 
@@ -87,12 +99,13 @@ Status read_metadata(sqlite::Database& db, MapInfo& info) {
     if (pragma.step()) application_id = pragma.column_int64(0);
   }
   if (application_id != schema::kGpkgApplicationId) {
-    return {StatusCode::not_a_database,
-            path + ": not a GeoPackage (SQLite application_id is " + std::to_string(application_id) +
-                ", expected 'GPKG'). " + kRebuildHint};
+    return {StatusCode::not_a_database, path + ": not a GeoPackage (SQLite application_id is " +
+                                            std::to_string(application_id) +
+                                            ", expected 'GPKG'). " + kRebuildHint};
   }
   {
-    auto has_table = db.prepare("SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name = ?1");
+    auto has_table =
+        db.prepare("SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name = ?1");
     has_table.bind(1, schema::kMetadataTable);
     has_table.step();
     if (has_table.column_int64(0) == 0) {
@@ -101,7 +114,8 @@ Status read_metadata(sqlite::Database& db, MapInfo& info) {
                   std::string(schema::kMetadataTable) + "). " + kRebuildHint};
     }
   }
-  auto rows = db.prepare("SELECT key, value FROM " + std::string(schema::kMetadataTable) + " ORDER BY key");
+  auto rows =
+      db.prepare("SELECT key, value FROM " + std::string(schema::kMetadataTable) + " ORDER BY key");
   while (rows.step()) info.metadata.emplace_back(rows.column_text(0), rows.column_text(1));
 
   auto value_of = [&](std::string_view key) -> const std::string* {
@@ -116,33 +130,37 @@ Status read_metadata(sqlite::Database& db, MapInfo& info) {
             path + ": roadcross metadata has no valid schema_version. " + kRebuildHint};
   }
   if (info.schema_version > schema::kSchemaVersion) {
-    return {StatusCode::wrong_version,
-            path + ": written with roadcross schema version " + *version +
-                ", newer than this runtime reads (" + std::to_string(schema::kOldestReadableVersion) +
-                ".." + std::to_string(schema::kSchemaVersion) +
-                "). Update the runtime, or rebuild the DB with the roadcross-build that matches it."};
+    return {
+        StatusCode::wrong_version,
+        path + ": written with roadcross schema version " + *version +
+            ", newer than this runtime reads (" + std::to_string(schema::kOldestReadableVersion) +
+            ".." + std::to_string(schema::kSchemaVersion) +
+            "). Update the runtime, or rebuild the DB with the roadcross-build that matches it."};
   }
   if (info.schema_version < schema::kOldestReadableVersion) {
-    return {StatusCode::wrong_version,
-            path + ": written with roadcross schema version " + *version +
-                ", older than this runtime reads (" + std::to_string(schema::kOldestReadableVersion) +
-                ".." + std::to_string(schema::kSchemaVersion) + "). " + kRebuildHint};
+    return {StatusCode::wrong_version, path + ": written with roadcross schema version " +
+                                           *version + ", older than this runtime reads (" +
+                                           std::to_string(schema::kOldestReadableVersion) + ".." +
+                                           std::to_string(schema::kSchemaVersion) + "). " +
+                                           kRebuildHint};
   }
   const std::string* zone = value_of(schema::meta::kUtmZone);
   const std::string* northern = value_of(schema::meta::kUtmNorthern);
   const std::string* epsg = value_of(schema::meta::kEpsg);
   int northern_flag = 0;
   if (!zone || !northern || !epsg || !parse_int(*zone, info.zone.zone) ||
-      !parse_int(*northern, northern_flag) || !parse_int(*epsg, info.epsg) ||
-      info.zone.zone < 1 || info.zone.zone > 60) {
-    return {StatusCode::corrupt_database, path + ": roadcross metadata lacks a valid UTM zone. " + kRebuildHint};
+      !parse_int(*northern, northern_flag) || !parse_int(*epsg, info.epsg) || info.zone.zone < 1 ||
+      info.zone.zone > 60) {
+    return {StatusCode::corrupt_database,
+            path + ": roadcross metadata lacks a valid UTM zone. " + kRebuildHint};
   }
   info.zone.northern = northern_flag != 0;
   if (const std::string* tool = value_of(schema::meta::kToolVersion)) info.tool_version = *tool;
   if (const std::string* count = value_of(schema::meta::kSegmentCount)) {
     info.segment_count = std::strtoll(count->c_str(), nullptr, 10);
   }
-  auto extent = db.prepare("SELECT min_x, min_y, max_x, max_y FROM gpkg_contents WHERE table_name = ?1");
+  auto extent =
+      db.prepare("SELECT min_x, min_y, max_x, max_y FROM gpkg_contents WHERE table_name = ?1");
   extent.bind(1, schema::kSegmentsTable);
   if (extent.step()) {
     info.min_easting_m = extent.column_double(0);
@@ -159,8 +177,9 @@ Result<Map> Map::open(const std::string& path) noexcept {
   try {
     struct stat file_status {};
     if (::stat(path.c_str(), &file_status) != 0 || !S_ISREG(file_status.st_mode)) {
-      return fail<Map>(StatusCode::file_not_found,
-                       path + ": no such file. Build one with roadcross-build --osm MAP -o " + path);
+      return fail<Map>(
+          StatusCode::file_not_found,
+          path + ": no such file. Build one with roadcross-build --osm MAP -o " + path);
     }
     sqlite::Database db(path, SQLITE_OPEN_READONLY | SQLITE_OPEN_NOMUTEX);
     MapInfo info;
@@ -185,7 +204,8 @@ Result<Map> Map::open(const std::string& path) noexcept {
 
 Result<PlanePoint> Map::to_utm(const Position& position) const noexcept {
   if (!std::isfinite(position.first) || !std::isfinite(position.second)) {
-    return fail<PlanePoint>(StatusCode::invalid_argument, "position has a NaN or infinite coordinate");
+    return fail<PlanePoint>(StatusCode::invalid_argument,
+                            "position has a NaN or infinite coordinate");
   }
   if (position.kind == Position::Kind::utm) {
     return Result<PlanePoint>{Status{}, PlanePoint{position.first, position.second}};
@@ -220,7 +240,8 @@ Result<NearestRoad> Map::nearest(const Position& position, double max_distance_m
     best.projection.distance_m = std::numeric_limits<double>::infinity();
     // Grow the search box until the best candidate is inside the searched radius: then no
     // segment outside the box can be nearer, since its bounding box would intersect it.
-    for (double radius_m = std::min(32.0, max_distance_m);; radius_m = std::min(radius_m * 4.0, max_distance_m)) {
+    for (double radius_m = std::min(32.0, max_distance_m);;
+         radius_m = std::min(radius_m * 4.0, max_distance_m)) {
       sqlite::Statement& stmt = impl.queries.candidates;
       stmt.bind(1, p.x - radius_m);
       stmt.bind(2, p.x + radius_m);
@@ -242,10 +263,11 @@ Result<NearestRoad> Map::nearest(const Position& position, double max_distance_m
       if (best.projection.distance_m <= radius_m || radius_m >= max_distance_m) break;
     }
     if (best.segment_id < 0 || best.projection.distance_m > max_distance_m) {
-      return fail<NearestRoad>(StatusCode::not_found,
-                               "no road within " + std::to_string(max_distance_m) + " m of E " +
-                                   std::to_string(p.x) + " N " + std::to_string(p.y) +
-                                   " (UTM zone " + std::to_string(impl.info.zone.zone) + ")");
+      char text[160];
+      std::snprintf(text, sizeof text, "no road within %g m of E %.1f N %.1f (UTM zone %d%s)",
+                    max_distance_m, p.x, p.y, impl.info.zone.zone,
+                    impl.info.zone.northern ? "N" : "S");
+      return fail<NearestRoad>(StatusCode::not_found, text);
     }
     NearestRoad road;
     road.segment_id = best.segment_id;
@@ -278,7 +300,8 @@ Result<RoadHeading> Map::road_heading(const Position& position, double max_dista
   heading.road_heading_rad = detail::polyline_direction_rad(geometry, at);
   // Which side of the road is the query on? The sign of the cross product of the road
   // direction with the vector from the road to the query: > 0 means left of the way direction.
-  const double dir_x = std::cos(heading.road_heading_rad), dir_y = std::sin(heading.road_heading_rad);
+  const double dir_x = std::cos(heading.road_heading_rad),
+               dir_y = std::sin(heading.road_heading_rad);
   const double off_x = query.x - at.closest.x, off_y = query.y - at.closest.y;
   const double side = dir_x * off_y - dir_y * off_x;
   constexpr double kOnCentrelineM = 1e-3;
@@ -290,7 +313,8 @@ Result<RoadHeading> Map::road_heading(const Position& position, double max_dista
   heading.crossing_bearing_deg = geo::yaw_rad_to_bearing_deg(heading.crossing_heading_rad);
   try {
     const geo::LatLon ll = geo::utm_to_wgs84(query.x, query.y, impl_->info.zone);
-    heading.convergence_rad = geo::wgs84_to_utm(ll.lat_deg, ll.lon_deg, impl_->info.zone).convergence_rad;
+    heading.convergence_rad =
+        geo::wgs84_to_utm(ll.lat_deg, ll.lon_deg, impl_->info.zone).convergence_rad;
   } catch (const std::exception&) {
     heading.convergence_rad = 0.0;  // only outside the UTM domain, which nearest() rejected
   }

@@ -7,7 +7,8 @@
 
 namespace roadcross::detail {
 
-PolylineProjection project_onto_polyline(std::span<const PlanePoint> points, PlanePoint p) noexcept {
+PolylineProjection project_onto_polyline(std::span<const PlanePoint> points,
+                                         PlanePoint p) noexcept {
   PolylineProjection best;
   best.distance_m = std::numeric_limits<double>::infinity();
   best.closest = points.front();

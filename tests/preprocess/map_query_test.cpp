@@ -1,0 +1,187 @@
+// The runtime on a DB built from a hand-written map. The road runs from (50.0, 14.399) to
+// (50.0, 14.401); in UTM 33N (gdaltransform -s_srs EPSG:4326 -t_srs EPSG:32633) its ends are
+//   A = (456928.223997736, 5538803.7545774), B = (457071.556792445, 5538802.60471974)
+// so it points east, turned slightly south by the meridian convergence: yaw = atan2(dN, dE).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "osm_fixture.hpp"
+#include "roadcross/preprocess/build.hpp"
+#include "roadcross/runtime.hpp"
+#include "roadcross/schema/sqlite.hpp"
+
+namespace rp = roadcross::preprocess;
+namespace rt = roadcross::testing;
+using roadcross::Map;
+using roadcross::Position;
+using roadcross::StatusCode;
+using roadcross::geo::kPi;
+
+namespace {
+
+constexpr double kAx = 456928.223997736, kAy = 5538803.7545774;
+constexpr double kBx = 457071.556792445, kBy = 5538802.60471974;
+
+class MapQuery : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const std::string osm =
+        dir_.write("road.osm",
+                   rt::osm_document(rt::osm_node(1, 50.0, 14.399) + rt::osm_node(2, 50.0, 14.401) +
+                                    rt::osm_node(3, 50.001, 14.4) + rt::osm_node(4, 50.002, 14.4) +
+                                    rt::osm_way(10, "1 2", "highway=residential;name=East Street") +
+                                    rt::osm_way(20, "3 4", "highway=service")));
+    db_path_ = dir_.file("road.gpkg");
+    rp::BuildOptions options;
+    options.osm_path = osm;
+    options.output_path = db_path_;
+    options.tool_version = "test";
+    rp::run_build(options);
+  }
+
+  Map open() {
+    auto map = Map::open(db_path_);
+    EXPECT_TRUE(map.ok()) << map.status.message;
+    return std::move(*map.value);
+  }
+
+  // A point at `fraction` along A->B, `offset_m` to the left of the road (north side).
+  static Position beside_road(double fraction, double offset_m) {
+    const double dx = kBx - kAx, dy = kBy - kAy, length = std::hypot(dx, dy);
+    return Position::utm(kAx + fraction * dx - offset_m * dy / length,
+                         kAy + fraction * dy + offset_m * dx / length);
+  }
+
+  static double road_yaw() { return std::atan2(kBy - kAy, kBx - kAx); }
+
+  rt::TempDir dir_;
+  std::string db_path_;
+};
+
+TEST_F(MapQuery, OpenReadsTheMetadata) {
+  Map map = open();
+  EXPECT_EQ(map.info().zone, (roadcross::geo::UtmZone{33, true}));
+  EXPECT_EQ(map.info().epsg, 32633);
+  EXPECT_EQ(map.info().schema_version, 1);
+  EXPECT_GT(map.info().segment_count, 15);
+  EXPECT_NEAR(map.info().min_easting_m, kAx, 1e-6);
+}
+
+TEST_F(MapQuery, NearestAndHeadingNorthAndSouthOfAnEastWestRoad) {
+  Map map = open();
+  const auto north = map.road_heading(beside_road(0.43, 5.0));
+  ASSERT_TRUE(north.ok()) << north.status.message;
+  EXPECT_NEAR(north->road.distance_m, 5.0, 1e-6);
+  EXPECT_EQ(north->road.osm_way_id, 10);
+  EXPECT_EQ(north->road.name, "East Street");
+  EXPECT_EQ(north->road.highway, "residential");
+  EXPECT_NEAR(north->road_heading_rad, road_yaw(), 1e-9);
+  // North of the road, the robot faces south across it: road yaw - pi/2 (about -pi/2).
+  EXPECT_NEAR(north->crossing_heading_rad, road_yaw() - kPi / 2, 1e-9);
+  EXPECT_NEAR(north->crossing_heading_rad, -kPi / 2, 0.01);
+  EXPECT_FALSE(north->on_centreline);
+
+  const auto south = map.road_heading(beside_road(0.43, -5.0));
+  ASSERT_TRUE(south.ok());
+  EXPECT_NEAR(south->crossing_heading_rad, road_yaw() + kPi / 2, 1e-9);
+  EXPECT_NEAR(south->crossing_bearing_deg, 0.0 + roadcross::geo::rad_to_deg(-road_yaw()), 1e-6);
+}
+
+TEST_F(MapQuery, NorthSouthRoadFacesEastOrWest) {
+  // Way 20 runs north from (50.001, 14.4); a point 3 m east of it crosses westwards (~pi).
+  Map map = open();
+  const auto p = map.to_utm(Position::wgs84(50.0015, 14.4));
+  ASSERT_TRUE(p.ok());
+  const auto east = map.road_heading(Position::utm(p->easting_m + 3.0, p->northing_m));
+  ASSERT_TRUE(east.ok());
+  EXPECT_EQ(east->road.osm_way_id, 20);
+  EXPECT_NEAR(east->road.distance_m, 3.0, 0.01);  // the road is within 0.5 deg of grid north
+  EXPECT_NEAR(std::abs(east->crossing_heading_rad), kPi, 0.01);
+  const auto west = map.road_heading(Position::utm(p->easting_m - 3.0, p->northing_m));
+  ASSERT_TRUE(west.ok());
+  EXPECT_NEAR(west->crossing_heading_rad, 0.0, 0.01);
+}
+
+TEST_F(MapQuery, BeyondTheEndTheClosestPointIsTheEnd) {
+  Map map = open();
+  const auto road = map.nearest(Position::utm(kAx - 4.0, kAy + 3.0));
+  ASSERT_TRUE(road.ok());
+  EXPECT_NEAR(road->closest.easting_m, kAx, 1e-6);
+  EXPECT_NEAR(road->closest.northing_m, kAy, 1e-6);
+  EXPECT_NEAR(road->distance_m, 5.0, 1e-6);
+}
+
+TEST_F(MapQuery, Wgs84InputEqualsProjectedInput) {
+  Map map = open();
+  const auto by_latlon = map.nearest(Position::wgs84(50.00004, 14.4003));
+  const auto projected = map.to_utm(Position::wgs84(50.00004, 14.4003));
+  ASSERT_TRUE(by_latlon.ok() && projected.ok());
+  const auto by_utm = map.nearest(Position::utm(projected->easting_m, projected->northing_m));
+  ASSERT_TRUE(by_utm.ok());
+  EXPECT_EQ(by_latlon->segment_id, by_utm->segment_id);
+  EXPECT_DOUBLE_EQ(by_latlon->distance_m, by_utm->distance_m);
+}
+
+TEST_F(MapQuery, OnTheCentrelineTheSideIsUnknown) {
+  Map map = open();
+  const auto on = map.road_heading(beside_road(0.5, 0.0));
+  ASSERT_TRUE(on.ok());
+  EXPECT_TRUE(on->on_centreline);
+  EXPECT_NEAR(on->crossing_heading_rad, road_yaw() - kPi / 2, 1e-9);
+}
+
+TEST_F(MapQuery, BadPositions) {
+  Map map = open();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(map.nearest(Position::utm(nan, 5538800.0)).status.code, StatusCode::invalid_argument);
+  EXPECT_EQ(map.nearest(Position::wgs84(95.0, 14.4)).status.code, StatusCode::invalid_argument);
+  EXPECT_EQ(map.nearest(Position::wgs84(50.0, 200.0)).status.code, StatusCode::invalid_argument);
+  EXPECT_EQ(map.road_heading(Position::wgs84(nan, 14.4)).status.code, StatusCode::invalid_argument);
+  // 200 m south of the road with a 100 m search radius: not found, with the radius in the message.
+  const auto far = map.nearest(beside_road(0.5, -200.0), 100.0);
+  EXPECT_EQ(far.status.code, StatusCode::not_found);
+  EXPECT_NE(far.status.message.find("100"), std::string::npos);
+  EXPECT_TRUE(map.nearest(beside_road(0.5, -200.0), 300.0).ok());
+  EXPECT_EQ(map.nearest(beside_road(0.5, 1.0), 0.0).status.code, StatusCode::invalid_argument);
+}
+
+TEST_F(MapQuery, OpenErrorsSayWhatToDo) {
+  const auto missing = Map::open(dir_.file("missing.gpkg"));
+  EXPECT_EQ(missing.status.code, StatusCode::file_not_found);
+  EXPECT_NE(missing.status.message.find("missing.gpkg"), std::string::npos);
+
+  const auto text = Map::open(dir_.write("text.gpkg", "this is not a database\n"));
+  EXPECT_EQ(text.status.code, StatusCode::not_a_database);
+  EXPECT_NE(text.status.message.find("roadcross-build"), std::string::npos);
+
+  {
+    roadcross::sqlite::Database plain(dir_.file("plain.sqlite"),
+                                      SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
+    plain.exec("CREATE TABLE t (x)");
+  }
+  EXPECT_EQ(Map::open(dir_.file("plain.sqlite")).status.code, StatusCode::not_a_database);
+
+  {
+    roadcross::sqlite::Database db(db_path_, SQLITE_OPEN_READWRITE);
+    db.exec("UPDATE roadcross_metadata SET value = '999' WHERE key = 'schema_version'");
+  }
+  const auto newer = Map::open(db_path_);
+  EXPECT_EQ(newer.status.code, StatusCode::wrong_version);
+  EXPECT_NE(newer.status.message.find("999"), std::string::npos);
+  EXPECT_NE(newer.status.message.find("newer"), std::string::npos);
+  {
+    roadcross::sqlite::Database db(db_path_, SQLITE_OPEN_READWRITE);
+    db.exec("UPDATE roadcross_metadata SET value = '0' WHERE key = 'schema_version'");
+  }
+  EXPECT_EQ(Map::open(db_path_).status.code, StatusCode::wrong_version);
+  {
+    roadcross::sqlite::Database db(db_path_, SQLITE_OPEN_READWRITE);
+    db.exec("DELETE FROM roadcross_metadata WHERE key = 'utm_zone'");
+    db.exec("UPDATE roadcross_metadata SET value = '1' WHERE key = 'schema_version'");
+  }
+  EXPECT_EQ(Map::open(db_path_).status.code, StatusCode::corrupt_database);
+}
+
+}  // namespace
