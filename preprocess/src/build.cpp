@@ -5,8 +5,10 @@
 #include <ctime>
 
 #include "roadcross/preprocess/errors.hpp"
+#include "roadcross/preprocess/geometry_cost.hpp"
 #include "roadcross/preprocess/gpkg_writer.hpp"
 #include "roadcross/preprocess/progress.hpp"
+#include "roadcross/preprocess/rank.hpp"
 #include "roadcross/preprocess/road_network.hpp"
 #include "roadcross/preprocess/segments.hpp"
 #include "roadcross/preprocess/sha256.hpp"
@@ -47,15 +49,20 @@ BuildSummary run_build(const BuildOptions& options) {
 
   progress.start_stage("segmenting");
   const geo::UtmZone zone = choose_utm_zone(network);
-  RoadGraph graph = build_road_graph(network, zone, options.parameters.segments.max_segment_length_m);
+  RoadGraph graph =
+      build_road_graph(network, zone, options.parameters.segments.max_segment_length_m);
   if (graph.segments.empty()) {
     throw InputError(options.osm_path, "no road way has two nodes with locations in the file");
   }
   progress.finish_stage(std::to_string(graph.segments.size()) + " segments in UTM zone " +
                         std::to_string(zone.zone) + (zone.northern ? "N" : "S"));
 
-  // Cost stages plug in here, in this order; each fills its Segment fields and appends its
-  // reason codes: geometry (class, junctions, curvature), terrain, context, then rank/score.
+  // Cost stages, in this order; each fills its Segment fields and appends its reason codes:
+  // geometry (class, junctions, curvature), terrain, context, then rank/score.
+  progress.start_stage("geometry cost");
+  compute_geometry_costs(graph, options.parameters.geometry);
+  progress.finish_stage("class, junctions, curvature");
+  compute_ranks(graph, options.parameters.rank);
 
   DatabaseContents contents;
   contents.graph = &graph;
@@ -81,7 +88,8 @@ BuildSummary run_build(const BuildOptions& options) {
   for (const auto& [node, degree] : graph.degree) summary.junctions += degree >= 3 ? 1 : 0;
   for (const Segment& s : graph.segments) summary.total_length_m += s.length_m;
   summary.missing_node_refs = graph.dropped_node_refs;
-  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  summary.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return summary;
 }
 

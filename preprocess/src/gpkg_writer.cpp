@@ -4,11 +4,11 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <algorithm>
 #include <limits>
 #include <stdexcept>
 
@@ -48,7 +48,8 @@ void AtomicOutput::commit() {
   ::umask(mask);
   ::chmod(temp_path_.c_str(), 0666 & ~mask);
   if (std::rename(temp_path_.c_str(), target_.c_str()) != 0) {
-    throw OutputError(target_ + ": cannot move the finished output into place: " + std::strerror(errno));
+    throw OutputError(target_ +
+                      ": cannot move the finished output into place: " + std::strerror(errno));
   }
   committed_ = true;
   set_interrupt_cleanup_path(nullptr);
@@ -121,15 +122,18 @@ std::string insert_segment_sql() {
     names += ", " + std::string(column.name);
     params += ", ?";
   }
-  return "INSERT INTO " + std::string(schema::kSegmentsTable) + " (" + names + ") VALUES (" + params + ")";
+  return "INSERT INTO " + std::string(schema::kSegmentsTable) + " (" + names + ") VALUES (" +
+         params + ")";
 }
 
 /// Inserts every segment row; returns the extent of all segments.
-schema::Envelope write_segment_rows(sqlite::Database& db, const RoadGraph& graph, Progress& progress) {
+schema::Envelope write_segment_rows(sqlite::Database& db, const RoadGraph& graph,
+                                    Progress& progress) {
   const std::int32_t srs_id = graph.zone.epsg();
   sqlite::Statement insert = db.prepare(insert_segment_sql());
-  schema::Envelope extent{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
-                          std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  schema::Envelope extent{
+      std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+      std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
   std::size_t written = 0;
   for (const Segment& s : graph.segments) {
     bind_segment(insert, s, srs_id);
@@ -154,7 +158,8 @@ void write_segment_rtree(sqlite::Database& db, const RoadGraph& graph) {
 
 }  // namespace
 
-void write_geopackage(const std::string& path, const DatabaseContents& contents, Progress& progress) {
+void write_geopackage(const std::string& path, const DatabaseContents& contents,
+                      Progress& progress) {
   const RoadGraph& graph = *contents.graph;
   progress.start_stage("writing " + path);
   try {
@@ -175,7 +180,8 @@ void write_geopackage(const std::string& path, const DatabaseContents& contents,
     write_segment_rtree(db, graph);
     {
       auto update = db.prepare(
-          "UPDATE gpkg_contents SET min_x = ?, min_y = ?, max_x = ?, max_y = ? WHERE table_name = ?");
+          "UPDATE gpkg_contents SET min_x = ?, min_y = ?, max_x = ?, max_y = ? WHERE table_name = "
+          "?");
       update.bind(1, extent.min_x);
       update.bind(2, extent.min_y);
       update.bind(3, extent.max_x);
@@ -185,7 +191,8 @@ void write_geopackage(const std::string& path, const DatabaseContents& contents,
     }
     for (const std::string& statement : schema::rtree_trigger_statements()) db.exec(statement);
 
-    auto insert_meta = db.prepare("INSERT INTO " + std::string(schema::kMetadataTable) + " VALUES (?, ?)");
+    auto insert_meta =
+        db.prepare("INSERT INTO " + std::string(schema::kMetadataTable) + " VALUES (?, ?)");
     auto put = [&](std::string_view key, const std::string& value) {
       insert_meta.bind(1, key);
       insert_meta.bind(2, value);

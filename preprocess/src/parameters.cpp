@@ -15,13 +15,16 @@ std::string format_number(double value) {
 }
 
 void SegmentParameters::describe(std::vector<ParameterSpec>& out) {
-  out.push_back({"segments", "max_segment_length_m", &max_segment_length_m, 0.1, 1000.0, false,
-                 "longest road segment, metres; pieces between junctions are cut into equal parts"});
+  out.push_back(
+      {"segments", "max_segment_length_m", &max_segment_length_m, 0.1, 1000.0, false,
+       "longest road segment, metres; pieces between junctions are cut into equal parts"});
 }
 
 std::vector<ParameterSpec> Parameters::specs() {
   std::vector<ParameterSpec> out;
   segments.describe(out);
+  geometry.describe(out);
+  rank.describe(out);
   return out;
 }
 
@@ -41,7 +44,8 @@ void Parameters::validate() const {
 std::vector<std::pair<std::string, std::string>> Parameters::as_metadata() const {
   std::vector<std::pair<std::string, std::string>> out;
   for (const ParameterSpec& spec : specs()) {
-    out.emplace_back(std::string(schema::meta::kParamPrefix) + spec.key(), format_number(*spec.value));
+    out.emplace_back(std::string(schema::meta::kParamPrefix) + spec.key(),
+                     format_number(*spec.value));
   }
   return out;
 }

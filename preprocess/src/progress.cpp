@@ -6,7 +6,9 @@
 
 namespace roadcross::preprocess {
 
-bool Progress::stderr_is_terminal() noexcept { return ::isatty(STDERR_FILENO) == 1; }
+bool Progress::stderr_is_terminal() noexcept {
+  return ::isatty(STDERR_FILENO) == 1;
+}
 
 Progress::~Progress() {
   if (open_line_) std::fputc('\n', stderr);
@@ -26,7 +28,8 @@ void Progress::update(std::uint64_t done, std::uint64_t total) {
   last_draw_ = now;
   char text[128];
   if (total > 0) {
-    std::snprintf(text, sizeof text, " %5.1f %%", 100.0 * static_cast<double>(done) / static_cast<double>(total));
+    std::snprintf(text, sizeof text, " %5.1f %%",
+                  100.0 * static_cast<double>(done) / static_cast<double>(total));
   } else {
     std::snprintf(text, sizeof text, " %llu", static_cast<unsigned long long>(done));
   }

@@ -24,10 +24,9 @@ std::string_view tag_value(const Tags& tags, std::string_view key) noexcept {
 
 bool is_kept_road_class(std::string_view highway) noexcept {
   static constexpr std::array<std::string_view, 16> kKept = {
-      "motorway",     "motorway_link", "trunk",        "trunk_link",  "primary",
-      "primary_link", "secondary",     "secondary_link", "tertiary",  "tertiary_link",
-      "unclassified", "residential",   "service",      "busway",      "road",
-      "living_street"};
+      "motorway",  "motorway_link",  "trunk",    "trunk_link",    "primary",      "primary_link",
+      "secondary", "secondary_link", "tertiary", "tertiary_link", "unclassified", "residential",
+      "service",   "busway",         "road",     "living_street"};
   return std::find(kKept.begin(), kKept.end(), highway) != kKept.end();
 }
 
@@ -53,10 +52,10 @@ bool is_area(const osmium::TagList& tags) {
 
 /// Keys that make a node on a road interesting to later stages (crossings, signals, ...).
 bool has_interesting_tag(const osmium::TagList& tags) {
-  static constexpr std::array<const char*, 6> kKeys = {"highway", "crossing", "crossing_ref",
-                                                       "crossing:markings", "traffic_signals",
-                                                       "barrier"};
-  return std::any_of(kKeys.begin(), kKeys.end(), [&](const char* key) { return tags.has_key(key); });
+  static constexpr std::array<const char*, 6> kKeys = {
+      "highway", "crossing", "crossing_ref", "crossing:markings", "traffic_signals", "barrier"};
+  return std::any_of(kKeys.begin(), kKeys.end(),
+                     [&](const char* key) { return tags.has_key(key); });
 }
 
 class RoadWayCollector : public osmium::handler::Handler {
@@ -78,8 +77,8 @@ class RoadWayCollector : public osmium::handler::Handler {
   }
 
   void note_timestamp(const osmium::OSMObject& object) {
-    network_.newest_timestamp_s =
-        std::max<std::int64_t>(network_.newest_timestamp_s, object.timestamp().seconds_since_epoch());
+    network_.newest_timestamp_s = std::max<std::int64_t>(network_.newest_timestamp_s,
+                                                         object.timestamp().seconds_since_epoch());
   }
 
  private:
@@ -153,7 +152,8 @@ RoadNetwork read_road_network(const std::string& path, Progress& progress) {
                           std::to_string(network.ways_read) + " ways");
 
     std::vector<std::int64_t> wanted;
-    for (const RoadWay& way : network.ways) wanted.insert(wanted.end(), way.node_ids.begin(), way.node_ids.end());
+    for (const RoadWay& way : network.ways)
+      wanted.insert(wanted.end(), way.node_ids.begin(), way.node_ids.end());
     std::sort(wanted.begin(), wanted.end());
     wanted.erase(std::unique(wanted.begin(), wanted.end()), wanted.end());
 

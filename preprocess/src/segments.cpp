@@ -30,7 +30,9 @@ geo::UtmZone choose_utm_zone(const RoadNetwork& network) {
 
 namespace {
 
-bool is_yes(std::string_view value) { return !value.empty() && value != "no" && value != "false" && value != "0"; }
+bool is_yes(std::string_view value) {
+  return !value.empty() && value != "no" && value != "false" && value != "0";
+}
 
 bool way_is_oneway(const Tags& tags) {
   const std::string_view oneway = tag_value(tags, "oneway");
@@ -77,7 +79,8 @@ PlanePoint point_at(const std::vector<PlanePoint>& points, const std::vector<dou
                     double s, std::size_t& edge) {
   while (edge + 2 < points.size() && cumulative[edge + 1] < s) ++edge;
   const double edge_length = cumulative[edge + 1] - cumulative[edge];
-  const double t = edge_length > 0.0 ? std::clamp((s - cumulative[edge]) / edge_length, 0.0, 1.0) : 0.0;
+  const double t =
+      edge_length > 0.0 ? std::clamp((s - cumulative[edge]) / edge_length, 0.0, 1.0) : 0.0;
   return {points[edge].x + t * (points[edge + 1].x - points[edge].x),
           points[edge].y + t * (points[edge + 1].y - points[edge].y)};
 }
@@ -88,12 +91,13 @@ void cut_piece(RoadGraph& graph, std::size_t piece_index, const RoadWay& way, do
   const std::vector<PlanePoint>& pts = piece.points;
   std::vector<double> cumulative(pts.size(), 0.0);
   for (std::size_t i = 1; i < pts.size(); ++i) {
-    cumulative[i] = cumulative[i - 1] + std::hypot(pts[i].x - pts[i - 1].x, pts[i].y - pts[i - 1].y);
+    cumulative[i] =
+        cumulative[i - 1] + std::hypot(pts[i].x - pts[i - 1].x, pts[i].y - pts[i - 1].y);
   }
   piece.length_m = cumulative.back();
   // Equal parts: ceil with a tolerance so that a 20.000000001 m piece with a 10 m limit is 2.
-  const auto count = static_cast<std::size_t>(
-      std::max(1.0, std::ceil(piece.length_m / max_length_m - 1e-9)));
+  const auto count =
+      static_cast<std::size_t>(std::max(1.0, std::ceil(piece.length_m / max_length_m - 1e-9)));
   const double part_m = piece.length_m / static_cast<double>(count);
   piece.first_segment = graph.segments.size();
   piece.segment_count = count;
@@ -140,7 +144,8 @@ void cut_piece(RoadGraph& graph, std::size_t piece_index, const RoadWay& way, do
 
 }  // namespace
 
-RoadGraph build_road_graph(const RoadNetwork& network, geo::UtmZone zone, double max_segment_length_m) {
+RoadGraph build_road_graph(const RoadNetwork& network, geo::UtmZone zone,
+                           double max_segment_length_m) {
   RoadGraph graph;
   graph.zone = zone;
   std::unordered_map<std::int64_t, PlanePoint> projected;
@@ -181,7 +186,8 @@ RoadGraph build_road_graph(const RoadNetwork& network, geo::UtmZone zone, double
       ++graph.degree[piece.from_node_id];
       ++graph.degree[piece.to_node_id];
       graph.pieces.push_back(std::move(piece));
-      cut_piece(graph, graph.pieces.size() - 1, network.ways[w], max_segment_length_m, next_split_id);
+      cut_piece(graph, graph.pieces.size() - 1, network.ways[w], max_segment_length_m,
+                next_split_id);
       start = i;
     }
   }

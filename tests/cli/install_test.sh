@@ -27,8 +27,15 @@ north=$(python3 -c "print($northing + 5.0)")
 expected=$(printf '14.399 50.0\n14.401 50.0\n' | gdaltransform -s_srs EPSG:4326 -t_srs EPSG:32633 -output_xy |
   python3 -c 'import math,sys; (x1,y1),(x2,y2)=[map(float,l.split()) for l in sys.stdin]; print(math.atan2(y2-y1,x2-x1)-math.pi/2)')
 
+# A sanitizer build installs instrumented libraries: the consumer must link the runtimes too.
+extra_flags=""
+if grep -q '^ROADCROSS_SANITIZE:BOOL=ON' "$ROADCROSS_BINARY_DIR/CMakeCache.txt"; then
+  extra_flags="-fsanitize=address,undefined"
+fi
+
 # CMake consumer.
-cmake -S "$src/consumer" -B "$work/cmake-build" -DCMAKE_PREFIX_PATH="$work/prefix" >/dev/null
+cmake -S "$src/consumer" -B "$work/cmake-build" -DCMAKE_PREFIX_PATH="$work/prefix" \
+  -DCMAKE_CXX_FLAGS="$extra_flags" -DCMAKE_EXE_LINKER_FLAGS="$extra_flags" >/dev/null
 cmake --build "$work/cmake-build" >/dev/null
 out=$("$work/cmake-build/consumer" "$work/map.gpkg" "$easting" "$north")
 echo "cmake consumer: $out"
@@ -38,7 +45,7 @@ python3 -c "import sys; v=float('$out'.split()[-1]); sys.exit(0 if abs(v - $expe
 # pkg-config consumer.
 export PKG_CONFIG_PATH="$work/prefix/lib/pkgconfig"
 # shellcheck disable=SC2046
-g++ -std=c++20 "$src/consumer/main.cpp" -o "$work/pc-consumer" $(pkg-config --cflags --libs --static roadcross-runtime)
+g++ -std=c++20 $extra_flags "$src/consumer/main.cpp" -o "$work/pc-consumer" $(pkg-config --cflags --libs --static roadcross-runtime)
 out=$("$work/pc-consumer" "$work/map.gpkg" "$easting" "$north")
 echo "pkg-config consumer: $out"
 python3 -c "import sys; v=float('$out'.split()[-1]); sys.exit(0 if abs(v - $expected) < 1e-6 else 1)"

@@ -44,6 +44,7 @@ class AtomicOutput {
 };
 
 /// Writes a complete GeoPackage at `path` (which must not exist or be empty).
-void write_geopackage(const std::string& path, const DatabaseContents& contents, Progress& progress);
+void write_geopackage(const std::string& path, const DatabaseContents& contents,
+                      Progress& progress);
 
 }  // namespace roadcross::preprocess

@@ -8,19 +8,11 @@
 #include <utility>
 #include <vector>
 
+#include "roadcross/preprocess/geometry_cost.hpp"
+#include "roadcross/preprocess/parameter_spec.hpp"
+#include "roadcross/preprocess/rank.hpp"
+
 namespace roadcross::preprocess {
-
-struct ParameterSpec {
-  std::string section;      ///< "segments", "geometry", "terrain", "context", "suitability"
-  std::string name;         ///< snake_case with its unit, e.g. "junction_distance_m"
-  double* value = nullptr;  ///< points into the owning Parameters object
-  double min = 0.0;         ///< inclusive range
-  double max = 0.0;
-  bool integer = false;     ///< must be a whole number
-  std::string description;  ///< one line: meaning, unit, source of the default
-
-  std::string key() const { return section + "." + name; }
-};
 
 /// Segmentation.
 struct SegmentParameters {
@@ -30,7 +22,9 @@ struct SegmentParameters {
 
 struct Parameters {
   SegmentParameters segments;
-  // Later sections (geometry, terrain, context, suitability) follow the same pattern.
+  GeometryParameters geometry;
+  RankParameters rank;
+  // Later sections (terrain, context, suitability) follow the same pattern.
 
   /// All parameters, pointing into this object. Order is stable (it is the file order).
   std::vector<ParameterSpec> specs();

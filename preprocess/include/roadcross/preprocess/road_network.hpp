@@ -43,13 +43,13 @@ struct TaggedNode {
 
 struct RoadNetwork {
   std::string source_path;
-  std::vector<RoadWay> ways;              ///< sorted by osm_id
-  std::vector<NodeLocation> locations;    ///< sorted by osm_id, only nodes used by `ways`
-  std::vector<TaggedNode> tagged_nodes;   ///< sorted by osm_id, only nodes used by `ways`
-  std::uint64_t ways_read = 0;            ///< all ways in the file
-  std::uint64_t nodes_read = 0;           ///< all nodes in the file
-  std::uint64_t missing_locations = 0;    ///< node references of road ways not in the file
-  std::int64_t newest_timestamp_s = 0;    ///< newest object timestamp (s since epoch), 0 if none
+  std::vector<RoadWay> ways;             ///< sorted by osm_id
+  std::vector<NodeLocation> locations;   ///< sorted by osm_id, only nodes used by `ways`
+  std::vector<TaggedNode> tagged_nodes;  ///< sorted by osm_id, only nodes used by `ways`
+  std::uint64_t ways_read = 0;           ///< all ways in the file
+  std::uint64_t nodes_read = 0;          ///< all nodes in the file
+  std::uint64_t missing_locations = 0;   ///< node references of road ways not in the file
+  std::int64_t newest_timestamp_s = 0;   ///< newest object timestamp (s since epoch), 0 if none
 
   /// Location of a node, or nullptr when the file did not contain it.
   const NodeLocation* find_location(std::int64_t node_id) const noexcept;

@@ -19,9 +19,9 @@ using schema::PlanePoint;
 struct RoadNetwork;
 
 struct Segment {
-  std::int64_t id = 0;          ///< 1-based, stable for identical inputs
-  std::size_t way_index = 0;    ///< index into RoadNetwork::ways
-  std::size_t piece_index = 0;  ///< index into RoadGraph::pieces
+  std::int64_t id = 0;             ///< 1-based, stable for identical inputs
+  std::size_t way_index = 0;       ///< index into RoadNetwork::ways
+  std::size_t piece_index = 0;     ///< index into RoadGraph::pieces
   double offset_in_piece_m = 0.0;  ///< distance from the piece's start to this segment's start
   std::int64_t osm_way_id = 0;
   std::string highway;
@@ -83,7 +83,8 @@ geo::UtmZone choose_utm_zone(const RoadNetwork& network);
 /// Splits ways at graph nodes (way ends and nodes used more than once, matched on OSM node id)
 /// and cuts each piece into equal segments of at most `max_segment_length_m` (metres, > 0).
 /// References to nodes missing from the file split the way there (counted, not fatal).
-RoadGraph build_road_graph(const RoadNetwork& network, geo::UtmZone zone, double max_segment_length_m);
+RoadGraph build_road_graph(const RoadNetwork& network, geo::UtmZone zone,
+                           double max_segment_length_m);
 
 /// Length of a polyline, metres.
 double polyline_length_m(const std::vector<PlanePoint>& points) noexcept;

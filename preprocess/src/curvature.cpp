@@ -1,0 +1,102 @@
+#include "roadcross/preprocess/curvature.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace roadcross::preprocess {
+
+double circumradius_m(PlanePoint a, PlanePoint b, PlanePoint c, double straight_radius_m) noexcept {
+  const double p = std::hypot(b.x - a.x, b.y - a.y);
+  const double q = std::hypot(c.x - b.x, c.y - b.y);
+  const double s = std::hypot(a.x - c.x, a.y - c.y);
+  // Heron's product, (p+q+s)(q+s-p)(p+s-q)(p+q-s) = 16 * area^2; cancellation makes it slightly
+  // negative for collinear points, which the guard below treats as straight.
+  const double sixteen_area_sq = (p + q + s) * (q + s - p) * (p + s - q) * (p + q - s);
+  if (!(sixteen_area_sq > 0.0)) return straight_radius_m;
+  return std::min(p * q * s / std::sqrt(sixteen_area_sq), straight_radius_m);
+}
+
+std::vector<PlanePoint> resample(const std::vector<PlanePoint>& line, double max_spacing_m) {
+  std::vector<PlanePoint> out;
+  if (line.empty()) return out;
+  out.push_back(line.front());
+  for (std::size_t i = 1; i < line.size(); ++i) {
+    const PlanePoint a = line[i - 1], b = line[i];
+    const double length = std::hypot(b.x - a.x, b.y - a.y);
+    const auto parts = static_cast<int>(std::ceil(length / max_spacing_m - 1e-9));
+    for (int k = 1; k < parts; ++k) {
+      const double t = static_cast<double>(k) / parts;
+      out.push_back({a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)});
+    }
+    out.push_back(b);
+  }
+  return out;
+}
+
+namespace {
+
+/// Arc-length positions of the points of a line.
+std::vector<double> cumulative_lengths(const std::vector<PlanePoint>& line) {
+  std::vector<double> s(line.size(), 0.0);
+  for (std::size_t i = 1; i < line.size(); ++i) {
+    s[i] = s[i - 1] + std::hypot(line[i].x - line[i - 1].x, line[i].y - line[i - 1].y);
+  }
+  return s;
+}
+
+/// The point at arc position `at` (may be outside [0, total] on a ring: wrapped).
+PlanePoint point_at(const std::vector<PlanePoint>& line, const std::vector<double>& s, double at) {
+  const double total = s.back();
+  const auto it = std::upper_bound(s.begin(), s.end(), at);
+  if (it == s.begin()) return line.front();
+  if (it == s.end()) return line.back();
+  const std::size_t j = static_cast<std::size_t>(it - s.begin());  // s[j-1] <= at < s[j]
+  const double edge = s[j] - s[j - 1];
+  const double t = edge > 0.0 ? (at - s[j - 1]) / edge : 0.0;
+  (void)total;
+  return {line[j - 1].x + t * (line[j].x - line[j - 1].x),
+          line[j - 1].y + t * (line[j].y - line[j - 1].y)};
+}
+
+double wrap(double at, double total) {
+  double r = std::fmod(at, total);
+  return r < 0.0 ? r + total : r;
+}
+
+}  // namespace
+
+std::vector<double> vertex_radii_m(const std::vector<PlanePoint>& line,
+                                   const CurvatureOptions& options) {
+  const std::size_t n = line.size();
+  std::vector<double> radii(n, options.straight_radius_m);
+  if (n < 3) return radii;
+  const std::vector<double> s = cumulative_lengths(line);
+  const double total = s.back();
+  const bool ring = options.closed && total > 4.0 * options.baseline_m;
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool first = (i == 0), last = (i + 1 == n);
+    if (!ring && (first || last)) continue;
+    if (ring && last) {
+      radii[i] = radii[0];  // the closing point is the first point
+      continue;
+    }
+    const std::size_t prev = first ? n - 2 : i - 1;
+    const std::size_t next = i + 1;
+    const double back_m = std::max(options.baseline_m, first ? total - s[prev] : s[i] - s[prev]);
+    const double ahead_m = std::max(options.baseline_m, s[next] - s[i]);
+    double before_at = s[i] - back_m, after_at = s[i] + ahead_m;
+    if (ring) {
+      before_at = wrap(before_at, total);
+      after_at = wrap(after_at, total);
+    } else if (before_at < 0.0 || after_at > total) {
+      // Too close to an open end for a full baseline: use what the line offers.
+      before_at = std::max(before_at, 0.0);
+      after_at = std::min(after_at, total);
+    }
+    radii[i] = circumradius_m(point_at(line, s, before_at), line[i], point_at(line, s, after_at),
+                              options.straight_radius_m);
+  }
+  return radii;
+}
+
+}  // namespace roadcross::preprocess

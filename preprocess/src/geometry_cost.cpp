@@ -1,0 +1,231 @@
+#include "roadcross/preprocess/geometry_cost.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <queue>
+#include <unordered_map>
+
+#include "roadcross/preprocess/curvature.hpp"
+#include "roadcross/preprocess/strokes.hpp"
+
+namespace roadcross::preprocess {
+
+void GeometryParameters::describe(std::vector<ParameterSpec>& out) {
+  const std::string s = "geometry";
+  out.push_back({s, "class_cost_primary", &class_cost_primary, 0, 10, true,
+                 "class cost of primary roads (and motorway, trunk, links)"});
+  out.push_back({s, "class_cost_secondary", &class_cost_secondary, 0, 10, true,
+                 "class cost of secondary roads"});
+  out.push_back({s, "class_cost_tertiary", &class_cost_tertiary, 0, 10, true,
+                 "class cost of tertiary roads and busways"});
+  out.push_back({s, "class_cost_minor", &class_cost_minor, 0, 10, true,
+                 "class cost of residential, living_street, service and road"});
+  out.push_back({s, "class_cost_unclassified", &class_cost_unclassified, 0, 10, true,
+                 "class cost of unclassified roads"});
+  out.push_back({s, "near_junction_m", &near_junction_m, 0, 1000, false,
+                 "NEAR_JUNCTION when the junction along the road is closer, metres"});
+  out.push_back({s, "resample_spacing_m", &resample_spacing_m, 1, 1000, false,
+                 "largest spacing of curvature points, metres (thesis 20)"});
+  out.push_back({s, "curvature_baseline_m", &curvature_baseline_m, 0.5, 200, false,
+                 "shortest arm of the curvature triangle, metres"});
+  out.push_back({s, "straight_radius_m", &straight_radius_m, 100, 1e6, false,
+                 "radius of a straight line, metres (thesis 10000)"});
+  out.push_back({s, "level4_radius_m", &level4_radius_m, 0, 1e5, false,
+                 "curvature level 4 below this radius, metres"});
+  out.push_back({s, "level3_radius_m", &level3_radius_m, 0, 1e5, false,
+                 "curvature level 3 below this radius, metres"});
+  out.push_back({s, "level2_radius_m", &level2_radius_m, 0, 1e5, false,
+                 "curvature level 2 below this radius, metres"});
+  out.push_back({s, "level1_radius_m", &level1_radius_m, 0, 1e5, false,
+                 "curvature level 1 below this radius, metres"});
+  for (std::size_t level = 0; level < level_weight.size(); ++level) {
+    out.push_back({s, "level" + std::to_string(level) + "_weight", &level_weight[level], 0, 1000,
+                   false,
+                   "weight of curvature level " + std::to_string(level) + " in the windowed cost"});
+  }
+  out.push_back({s, "window_half_length_m", &window_half_length_m, 0, 10000, false,
+                 "curvature window: this far along the road each way, metres"});
+  out.push_back({s, "own_segment_weight", &own_segment_weight, 0, 1000, false,
+                 "the segment itself counts this many times in its window"});
+  out.push_back({s, "sharp_bend_radius_m", &sharp_bend_radius_m, 0, 1e5, false,
+                 "SHARP_BEND below this radius, metres"});
+}
+
+int class_cost(std::string_view highway, const GeometryParameters& p) noexcept {
+  const std::string_view base = highway.substr(0, highway.find("_link"));
+  double cost = 0;
+  if (base == "motorway" || base == "trunk" || base == "primary") {
+    cost = p.class_cost_primary;
+  } else if (base == "secondary") {
+    cost = p.class_cost_secondary;
+  } else if (base == "tertiary" || base == "busway") {
+    cost = p.class_cost_tertiary;
+  } else if (base == "residential" || base == "living_street" || base == "service" ||
+             base == "road") {
+    cost = p.class_cost_minor;
+  } else if (base == "unclassified") {
+    cost = p.class_cost_unclassified;
+  }
+  return static_cast<int>(cost);
+}
+
+int curvature_level(double radius_m, bool at_junction, const GeometryParameters& p) noexcept {
+  if (at_junction) return 5;
+  if (radius_m < p.level4_radius_m) return 4;
+  if (radius_m < p.level3_radius_m) return 3;
+  if (radius_m < p.level2_radius_m) return 2;
+  if (radius_m < p.level1_radius_m) return 1;
+  return 0;
+}
+
+namespace {
+
+bool is_junction(const RoadGraph& graph, std::int64_t node) {
+  const auto it = graph.degree.find(node);
+  return it != graph.degree.end() && it->second >= 3;
+}
+
+/// Shortest distance along the road from every graph node to a junction (multi-source
+/// Dijkstra over the pieces); nodes that reach none are absent.
+std::unordered_map<std::int64_t, double> distance_to_junction(const RoadGraph& graph) {
+  std::unordered_map<std::int64_t, std::vector<std::pair<std::int64_t, double>>> adjacent;
+  for (const RoadPiece& piece : graph.pieces) {
+    adjacent[piece.from_node_id].emplace_back(piece.to_node_id, piece.length_m);
+    adjacent[piece.to_node_id].emplace_back(piece.from_node_id, piece.length_m);
+  }
+  std::unordered_map<std::int64_t, double> distance;
+  using Entry = std::pair<double, std::int64_t>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+  for (const auto& [node, degree] : graph.degree) {
+    if (degree >= 3) {
+      distance[node] = 0.0;
+      queue.push({0.0, node});
+    }
+  }
+  while (!queue.empty()) {
+    const auto [d, node] = queue.top();
+    queue.pop();
+    if (d > distance[node]) continue;
+    for (const auto& [next, length] : adjacent[node]) {
+      const double candidate = d + length;
+      const auto it = distance.find(next);
+      if (it == distance.end() || candidate < it->second) {
+        distance[next] = candidate;
+        queue.push({candidate, next});
+      }
+    }
+  }
+  return distance;
+}
+
+void assign_junction_distances(RoadGraph& graph, const GeometryParameters& p) {
+  const auto distance = distance_to_junction(graph);
+  const auto at = [&](std::int64_t node) {
+    const auto it = distance.find(node);
+    return it == distance.end() ? std::numeric_limits<double>::infinity() : it->second;
+  };
+  for (const RoadPiece& piece : graph.pieces) {
+    const double from_end = at(piece.from_node_id), to_end = at(piece.to_node_id);
+    for (std::size_t k = 0; k < piece.segment_count; ++k) {
+      Segment& s = graph.segments[piece.first_segment + k];
+      // Measured from the segment's midpoint: where a robot crossing "at this segment" stands.
+      const double mid = s.offset_in_piece_m + 0.5 * s.length_m;
+      const double d = std::min(mid + from_end, piece.length_m - mid + to_end);
+      if (std::isfinite(d)) {
+        s.junction_distance_m = d;
+        if (d < p.near_junction_m) s.reasons.emplace_back("NEAR_JUNCTION");
+      }
+    }
+  }
+}
+
+/// Radius at the curvature points nearest to stroke position `at`: the radius of the nearest
+/// point (so a segment between points takes the bend of the closer one).
+double radius_near(const std::vector<double>& positions, const std::vector<double>& radii,
+                   double at) {
+  const auto it = std::lower_bound(positions.begin(), positions.end(), at);
+  if (it == positions.begin()) return radii.front();
+  if (it == positions.end()) return radii.back();
+  const std::size_t j = static_cast<std::size_t>(it - positions.begin());
+  return (at - positions[j - 1] <= positions[j] - at) ? radii[j - 1] : radii[j];
+}
+
+void assign_radii(RoadGraph& graph, const Stroke& stroke, const GeometryParameters& p) {
+  const std::vector<PlanePoint> line = resample(stroke.points, p.resample_spacing_m);
+  const std::vector<double> radii =
+      vertex_radii_m(line, {p.curvature_baseline_m, p.straight_radius_m, stroke.closed});
+  std::vector<double> positions(line.size(), 0.0);
+  for (std::size_t i = 1; i < line.size(); ++i) {
+    positions[i] =
+        positions[i - 1] + std::hypot(line[i].x - line[i - 1].x, line[i].y - line[i - 1].y);
+  }
+  for (const StrokeSegment& ss : stroke.segments) {
+    // Smallest radius of the curvature points on the segment and of those nearest its ends.
+    double radius = std::min(radius_near(positions, radii, ss.start_m),
+                             radius_near(positions, radii, ss.end_m));
+    auto it = std::lower_bound(positions.begin(), positions.end(), ss.start_m);
+    for (; it != positions.end() && *it <= ss.end_m; ++it) {
+      radius = std::min(radius, radii[static_cast<std::size_t>(it - positions.begin())]);
+    }
+    Segment& s = graph.segments[ss.segment];
+    s.radius_m = radius;
+    s.curvature_level = curvature_level(
+        radius, is_junction(graph, s.from_node_id) || is_junction(graph, s.to_node_id), p);
+    if (radius < p.sharp_bend_radius_m) s.reasons.emplace_back("SHARP_BEND");
+  }
+}
+
+/// Length of [a, b] inside [lo, hi].
+double overlap(double a, double b, double lo, double hi) {
+  return std::max(0.0, std::min(b, hi) - std::max(a, lo));
+}
+
+}  // namespace
+
+void assign_curvature_costs(RoadGraph& graph, const Stroke& stroke, const GeometryParameters& p) {
+  const std::vector<StrokeSegment>& segments = stroke.segments;
+  const double total = stroke.length_m;
+  // On a ring the window continues past the closing point: the stroke is seen shifted by
+  // -total and +total as well (a window shorter than the ring never counts a segment twice).
+  const std::vector<double> shifts =
+      stroke.closed ? std::vector<double>{-total, 0.0, total} : std::vector<double>{0.0};
+  for (std::size_t i = 0; i < segments.size(); ++i) {
+    const StrokeSegment& own = segments[i];
+    const double mid = 0.5 * (own.start_m + own.end_m);
+    const double lo = mid - p.window_half_length_m, hi = mid + p.window_half_length_m;
+    double weighted = 0.0, length = 0.0;
+    for (const double shift : shifts) {
+      // Segments are in stroke order: start at the first one that ends after the window opens.
+      auto it = std::partition_point(segments.begin(), segments.end(),
+                                     [&](const StrokeSegment& x) { return x.end_m + shift <= lo; });
+      for (; it != segments.end() && it->start_m + shift < hi; ++it) {
+        const bool is_own = shift == 0.0 && it == segments.begin() + static_cast<std::ptrdiff_t>(i);
+        const double inside = overlap(it->start_m + shift, it->end_m + shift, lo, hi) *
+                              (is_own ? p.own_segment_weight : 1.0);
+        const int level = *graph.segments[it->segment].curvature_level;
+        weighted += inside * p.level_weight[static_cast<std::size_t>(level)];
+        length += inside;
+      }
+    }
+    // The epsilon keeps an exact quotient (3.0 from uniform weights) from flooring to 2.
+    const double cost = length > 0.0 ? std::floor(weighted / length + 1e-9) : 0.0;
+    graph.segments[own.segment].curvature_cost = static_cast<int>(std::clamp(cost, 0.0, 14.0));
+  }
+}
+
+void compute_geometry_costs(RoadGraph& graph, const GeometryParameters& p) {
+  for (Segment& s : graph.segments) {
+    s.class_cost = class_cost(s.highway, p);
+    const std::string_view base = std::string_view(s.highway).substr(0, s.highway.find("_link"));
+    if (base == "motorway" || base == "trunk") s.reasons.emplace_back("NOT_CROSSABLE_CLASS");
+    if (s.tunnel) s.reasons.emplace_back("TUNNEL");
+  }
+  assign_junction_distances(graph, p);
+  for (const Stroke& stroke : build_strokes(graph)) {
+    assign_radii(graph, stroke, p);
+    assign_curvature_costs(graph, stroke, p);
+  }
+}
+
+}  // namespace roadcross::preprocess

@@ -1,0 +1,122 @@
+#include "roadcross/preprocess/strokes.hpp"
+
+#include <algorithm>
+#include <deque>
+#include <unordered_map>
+
+namespace roadcross::preprocess {
+namespace {
+
+struct Step {
+  std::size_t piece;
+  bool reversed;
+};
+
+struct Incidence {
+  std::size_t piece;
+  bool at_end;  ///< the piece's to-node (else its from-node)
+};
+
+using Incidences = std::unordered_map<std::int64_t, std::vector<Incidence>>;
+
+Incidences incidences_of(const RoadGraph& graph) {
+  Incidences out;
+  for (std::size_t p = 0; p < graph.pieces.size(); ++p) {
+    out[graph.pieces[p].from_node_id].push_back({p, false});
+    out[graph.pieces[p].to_node_id].push_back({p, true});
+  }
+  return out;
+}
+
+std::int64_t exit_node(const RoadPiece& piece, bool reversed) {
+  return reversed ? piece.from_node_id : piece.to_node_id;
+}
+
+/// Follows the chain from `node`, leaving `came_from`, while nodes have degree 2.
+/// Returns the steps in walking order; `closed` is set when the walk returns to `start_piece`.
+std::vector<Step> walk(const RoadGraph& graph, const Incidences& incidences, std::int64_t node,
+                       Incidence came_from, std::size_t start_piece, std::vector<char>& visited,
+                       bool& closed) {
+  std::vector<Step> steps;
+  while (true) {
+    const auto it = incidences.find(node);
+    if (it == incidences.end() || it->second.size() != 2) break;
+    const Incidence& a = it->second[0];
+    const Incidence& b = it->second[1];
+    const Incidence next = (a.piece == came_from.piece && a.at_end == came_from.at_end) ? b : a;
+    if (next.piece == start_piece) {
+      closed = true;
+      break;
+    }
+    if (visited[next.piece]) break;
+    visited[next.piece] = 1;
+    // Entering at its to-node means walking the piece backwards.
+    const bool reversed = next.at_end;
+    steps.push_back({next.piece, reversed});
+    node = exit_node(graph.pieces[next.piece], reversed);
+    came_from = {next.piece, !next.at_end};
+  }
+  return steps;
+}
+
+Stroke make_stroke(const RoadGraph& graph, const std::deque<Step>& steps, bool closed) {
+  Stroke stroke;
+  stroke.closed = closed;
+  for (const Step& step : steps) {
+    const RoadPiece& piece = graph.pieces[step.piece];
+    std::vector<PlanePoint> pts = piece.points;
+    if (step.reversed) std::reverse(pts.begin(), pts.end());
+    const std::size_t skip = stroke.points.empty() ? 0 : 1;  // the joint is already there
+    stroke.points.insert(stroke.points.end(), pts.begin() + static_cast<std::ptrdiff_t>(skip),
+                         pts.end());
+    const double base = stroke.length_m;
+    std::vector<StrokeSegment> in_piece;
+    for (std::size_t k = 0; k < piece.segment_count; ++k) {
+      const std::size_t index = piece.first_segment + k;
+      const Segment& s = graph.segments[index];
+      const double a = s.offset_in_piece_m, b = s.offset_in_piece_m + s.length_m;
+      in_piece.push_back(step.reversed ? StrokeSegment{index, true, base + piece.length_m - b,
+                                                       base + piece.length_m - a}
+                                       : StrokeSegment{index, false, base + a, base + b});
+    }
+    if (step.reversed) std::reverse(in_piece.begin(), in_piece.end());
+    stroke.segments.insert(stroke.segments.end(), in_piece.begin(), in_piece.end());
+    stroke.length_m += piece.length_m;
+  }
+  return stroke;
+}
+
+}  // namespace
+
+std::vector<Stroke> build_strokes(const RoadGraph& graph) {
+  const Incidences incidences = incidences_of(graph);
+  std::vector<char> visited(graph.pieces.size(), 0);
+  std::vector<Stroke> strokes;
+  for (std::size_t p = 0; p < graph.pieces.size(); ++p) {
+    if (visited[p]) continue;
+    visited[p] = 1;
+    const RoadPiece& piece = graph.pieces[p];
+    bool closed = false;
+    std::deque<Step> steps{{p, false}};
+    // A piece that starts and ends at the same node is a ring of its own.
+    if (piece.from_node_id != piece.to_node_id) {
+      for (const Step& s :
+           walk(graph, incidences, piece.to_node_id, {p, true}, p, visited, closed)) {
+        steps.push_back(s);
+      }
+      if (!closed) {
+        for (const Step& s :
+             walk(graph, incidences, piece.from_node_id, {p, false}, p, visited, closed)) {
+          steps.push_front({s.piece, !s.reversed});  // walked backwards: flip to stroke order
+        }
+      }
+    } else {
+      const auto it = incidences.find(piece.from_node_id);
+      closed = it != incidences.end() && it->second.size() == 2;
+    }
+    strokes.push_back(make_stroke(graph, steps, closed));
+  }
+  return strokes;
+}
+
+}  // namespace roadcross::preprocess

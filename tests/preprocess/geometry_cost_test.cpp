@@ -1,0 +1,433 @@
+// Geometry cost: circumradius, curvature on drawn arcs, junction distance along the road,
+// the curvature window, class cost, rank. Expected values are computed by hand in comments.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "roadcross/preprocess/curvature.hpp"
+#include "roadcross/preprocess/errors.hpp"
+#include "roadcross/preprocess/geometry_cost.hpp"
+#include "roadcross/preprocess/parameters.hpp"
+#include "roadcross/preprocess/rank.hpp"
+#include "roadcross/preprocess/strokes.hpp"
+
+namespace rp = roadcross::preprocess;
+using rp::PlanePoint;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// ---- A tiny graph builder in plane coordinates (no OSM, no projection). ----------------------
+
+struct GraphBuilder {
+  rp::RoadGraph graph;
+  std::int64_t next_split = -1;
+
+  /// Adds a piece from node `from` to `to` along `points`, cut into segments of <= max_m.
+  void add_piece(std::int64_t from, std::int64_t to, std::vector<PlanePoint> points,
+                 const std::string& highway = "residential", double max_m = 10.0) {
+    rp::RoadPiece piece;
+    piece.from_node_id = from;
+    piece.to_node_id = to;
+    piece.points = points;
+    piece.length_m = rp::polyline_length_m(points);
+    piece.first_segment = graph.segments.size();
+    // Cut into equal parts along the polyline (same rule as the segmenter).
+    const auto count =
+        static_cast<std::size_t>(std::max(1.0, std::ceil(piece.length_m / max_m - 1e-9)));
+    piece.segment_count = count;
+    std::vector<double> s(points.size(), 0.0);
+    for (std::size_t i = 1; i < points.size(); ++i)
+      s[i] = s[i - 1] + std::hypot(points[i].x - points[i - 1].x, points[i].y - points[i - 1].y);
+    auto at = [&](double d) {
+      std::size_t j = 1;
+      while (j + 1 < points.size() && s[j] < d) ++j;
+      const double t = (d - s[j - 1]) / (s[j] - s[j - 1]);
+      return PlanePoint{points[j - 1].x + t * (points[j].x - points[j - 1].x),
+                        points[j - 1].y + t * (points[j].y - points[j - 1].y)};
+    };
+    std::int64_t node = from;
+    for (std::size_t k = 0; k < count; ++k) {
+      const double n = static_cast<double>(count);
+      const double a = piece.length_m * static_cast<double>(k) / n,
+                   b = piece.length_m * static_cast<double>(k + 1) / n;
+      rp::Segment seg;
+      seg.id = static_cast<std::int64_t>(graph.segments.size()) + 1;
+      seg.piece_index = graph.pieces.size();
+      seg.offset_in_piece_m = a;
+      seg.length_m = b - a;
+      seg.highway = highway;
+      seg.from_node_id = node;
+      seg.to_node_id = (k + 1 == count) ? to : next_split--;
+      node = seg.to_node_id;
+      seg.points.push_back(at(a));
+      for (std::size_t i = 1; i + 1 < points.size(); ++i) {
+        if (s[i] > a && s[i] < b) seg.points.push_back(points[i]);
+      }
+      seg.points.push_back(k + 1 == count ? points.back() : at(b));
+      graph.segments.push_back(seg);
+    }
+    ++graph.degree[from];
+    ++graph.degree[to];
+    graph.pieces.push_back(piece);
+  }
+};
+
+std::vector<PlanePoint> straight(PlanePoint a, PlanePoint b) {
+  return {a, b};
+}
+
+/// Vertices on a circle of `radius_m` around the origin, `spacing_m` apart along the arc,
+/// spanning `angle_rad`, starting at angle `start_rad`.
+std::vector<PlanePoint> arc(double radius_m, double spacing_m, double angle_rad,
+                            double start_rad = 0.0) {
+  std::vector<PlanePoint> out;
+  const int steps = static_cast<int>(std::round(angle_rad * radius_m / spacing_m));
+  for (int i = 0; i <= steps; ++i) {
+    const double t = start_rad + angle_rad * i / steps;
+    out.push_back({radius_m * std::cos(t), radius_m * std::sin(t)});
+  }
+  return out;
+}
+
+// ---- Circumradius. ---------------------------------------------------------------------------
+
+TEST(Circumradius, KnownTriangles) {
+  // Right triangle 3-4-5: the hypotenuse is a diameter, r = 2.5.
+  EXPECT_NEAR(rp::circumradius_m({0, 0}, {3, 0}, {3, 4}, 1e4), 2.5, 1e-12);
+  // Equilateral triangle of side a: r = a / sqrt(3).
+  EXPECT_NEAR(rp::circumradius_m({0, 0}, {10, 0}, {5, 10 * std::sqrt(3.0) / 2}, 1e4),
+              10 / std::sqrt(3.0), 1e-9);
+  // Any three points of a circle of radius 50.
+  EXPECT_NEAR(rp::circumradius_m({50, 0}, {0, 50}, {-50 * std::cos(0.3), -50 * std::sin(0.3)}, 1e4),
+              50, 1e-9);
+  // Collinear and degenerate: the straight radius.
+  EXPECT_EQ(rp::circumradius_m({0, 0}, {5, 0}, {10, 0}, 10000), 10000);
+  EXPECT_EQ(rp::circumradius_m({0, 0}, {0, 0}, {10, 0}, 10000), 10000);
+  EXPECT_EQ(rp::circumradius_m({1, 1}, {1, 1}, {1, 1}, 10000), 10000);
+  // Nearly straight: capped at the straight radius.
+  EXPECT_EQ(rp::circumradius_m({0, 0}, {500, 0.001}, {1000, 0}, 10000), 10000);
+}
+
+TEST(Resample, InsertsPointsOnlyOnLongEdges) {
+  const auto out = rp::resample({{0, 0}, {50, 0}, {55, 0}}, 20.0);
+  // 50 m edge -> 3 parts (16.67 m), 5 m edge untouched.
+  ASSERT_EQ(out.size(), 5u);
+  EXPECT_NEAR(out[1].x, 50.0 / 3, 1e-12);
+  EXPECT_NEAR(out[3].x, 50.0, 1e-12);
+}
+
+// ---- Curvature on drawn arcs: radius_m within 10 % whatever the vertex spacing. --------------
+
+class ArcRadius : public ::testing::TestWithParam<std::tuple<double, double>> {};
+
+TEST_P(ArcRadius, SegmentsOnTheArcGetItsRadius) {
+  const auto [radius, spacing] = GetParam();
+  GraphBuilder b;
+  // Three quarters of a circle, as one piece between two dead ends.
+  b.add_piece(1, 2, arc(radius, spacing, 1.5 * kPi));
+  rp::GeometryParameters p;
+  rp::compute_geometry_costs(b.graph, p);
+  int checked = 0;
+  for (const rp::Segment& s : b.graph.segments) {
+    ASSERT_TRUE(s.radius_m.has_value());
+    // The segments at the two dead ends see only half a triangle; the rest must be within 10 %.
+    const double from_start = s.offset_in_piece_m,
+                 to_end = b.graph.pieces[0].length_m - s.offset_in_piece_m - s.length_m;
+    if (from_start < spacing + p.curvature_baseline_m || to_end < spacing + p.curvature_baseline_m)
+      continue;
+    EXPECT_NEAR(*s.radius_m, radius, 0.10 * radius) << "segment at " << from_start << " m";
+    ++checked;
+  }
+  EXPECT_GE(checked, 5);
+}
+
+INSTANTIATE_TEST_SUITE_P(RadiiAndSpacings, ArcRadius,
+                         ::testing::Combine(::testing::Values(30.0, 50.0, 100.0, 200.0),
+                                            ::testing::Values(2.0, 5.0, 15.0)));
+
+TEST(Curvature, StraightRoadIsStraightLevelZeroCostZero) {
+  GraphBuilder b;
+  b.add_piece(1, 2, {{0, 0}, {100, 0}, {200, 0}, {300, 0}});
+  rp::compute_geometry_costs(b.graph, {});
+  for (const rp::Segment& s : b.graph.segments) {
+    EXPECT_EQ(*s.radius_m, 10000);
+    EXPECT_EQ(*s.curvature_level, 0);
+    EXPECT_EQ(*s.curvature_cost, 0);                  // floor(0.75)
+    EXPECT_FALSE(s.junction_distance_m.has_value());  // no junction anywhere
+    EXPECT_TRUE(s.reasons.empty());
+  }
+}
+
+TEST(Curvature, LevelsFollowTheRadiusLimits) {
+  const rp::GeometryParameters p;
+  EXPECT_EQ(rp::curvature_level(39.9, false, p), 4);
+  EXPECT_EQ(rp::curvature_level(40.0, false, p), 3);
+  EXPECT_EQ(rp::curvature_level(89.9, false, p), 3);
+  EXPECT_EQ(rp::curvature_level(149.9, false, p), 2);
+  EXPECT_EQ(rp::curvature_level(219.9, false, p), 1);
+  EXPECT_EQ(rp::curvature_level(220.0, false, p), 0);
+  EXPECT_EQ(rp::curvature_level(10000, true, p), 5);
+}
+
+TEST(Curvature, SplittingARoadIntoTwoWaysChangesNothing) {
+  // The same 50 m-radius S-bend, once as one piece and once as two pieces joined at a
+  // degree-2 node in the middle of the bend.
+  std::vector<PlanePoint> line = {{-100, 0}};
+  for (const PlanePoint& q : arc(50, 5, kPi / 2, -kPi / 2)) line.push_back({q.x, q.y + 50});
+  line.push_back({50, 150});
+  GraphBuilder one, two;
+  one.add_piece(1, 2, line);
+  const std::size_t middle = line.size() / 2;
+  two.add_piece(
+      1, 3, std::vector<PlanePoint>(line.begin(), line.begin() + static_cast<long>(middle) + 1));
+  two.add_piece(3, 2,
+                std::vector<PlanePoint>(line.begin() + static_cast<long>(middle), line.end()));
+  rp::compute_geometry_costs(one.graph, {});
+  rp::compute_geometry_costs(two.graph, {});
+  // Compare the cost profile along the road at the same positions (segment boundaries differ
+  // slightly because the pieces are cut separately; sample every segment midpoint of `one`).
+  auto profile = [](const rp::RoadGraph& g) {
+    std::vector<std::tuple<double, double, int, int>> out;  // position, radius, level, cost
+    double base = 0;
+    for (const rp::RoadPiece& piece : g.pieces) {
+      for (std::size_t k = 0; k < piece.segment_count; ++k) {
+        const rp::Segment& s = g.segments[piece.first_segment + k];
+        out.emplace_back(base + s.offset_in_piece_m + s.length_m / 2, *s.radius_m,
+                         *s.curvature_level, *s.curvature_cost);
+      }
+      base += piece.length_m;
+    }
+    return out;
+  };
+  const auto a = profile(one.graph), b = profile(two.graph);
+  for (const auto& [pos, radius, level, cost] : a) {
+    // The segment of `two` at the same position.
+    const auto it = std::min_element(b.begin(), b.end(), [&](const auto& x, const auto& y) {
+      return std::abs(std::get<0>(x) - pos) < std::abs(std::get<0>(y) - pos);
+    });
+    if (std::abs(std::get<0>(*it) - pos) > 1.0) continue;  // boundaries too different to compare
+    EXPECT_NEAR(std::get<1>(*it), radius, 0.05 * radius) << "at " << pos;
+    EXPECT_EQ(std::get<3>(*it), cost) << "at " << pos;
+  }
+  // The join node is not a junction: nobody is NEAR_JUNCTION, nobody has level 5.
+  for (const rp::Segment& s : two.graph.segments) {
+    EXPECT_NE(*s.curvature_level, 5);
+    EXPECT_FALSE(s.junction_distance_m.has_value());
+  }
+}
+
+// ---- Junction distance along the road. ---------------------------------------------------------
+
+TEST(Junctions, TJunctionDistancesAlongTheRoad) {
+  // Main road 1 -(100 m)- 2 -(60 m)- 3 along the x axis; side road 2 -(40 m)- 4 north.
+  // Node 2 has degree 3. With 10 m segments, the k-th segment of piece 1-2 (from node 1) has its
+  // midpoint at 5 + 10 k m from node 1, i.e. 95 - 10 k m from the junction.
+  GraphBuilder b;
+  b.add_piece(1, 2, straight({0, 0}, {100, 0}));
+  b.add_piece(2, 3, straight({100, 0}, {160, 0}));
+  b.add_piece(2, 4, straight({100, 0}, {100, 40}));
+  rp::compute_geometry_costs(b.graph, {});
+  const auto& seg = b.graph.segments;
+  EXPECT_NEAR(*seg[0].junction_distance_m, 95.0, 1e-9);
+  EXPECT_NEAR(*seg[9].junction_distance_m, 5.0, 1e-9);
+  EXPECT_NEAR(*seg[10].junction_distance_m, 5.0, 1e-9);   // first of 2-3
+  EXPECT_NEAR(*seg[15].junction_distance_m, 55.0, 1e-9);  // last of 2-3
+  EXPECT_NEAR(*seg[19].junction_distance_m, 35.0, 1e-9);  // last of 2-4
+  // NEAR_JUNCTION below 15 m: midpoints at 5 m only (the next ones are at 15 m).
+  auto near = [](const rp::Segment& s) {
+    return std::find(s.reasons.begin(), s.reasons.end(), "NEAR_JUNCTION") != s.reasons.end();
+  };
+  EXPECT_TRUE(near(seg[9]));
+  EXPECT_FALSE(near(seg[8]));
+  EXPECT_TRUE(near(seg[10]));
+  EXPECT_FALSE(near(seg[11]));
+  // Segments touching the junction have curvature level 5.
+  EXPECT_EQ(*seg[9].curvature_level, 5);
+  EXPECT_EQ(*seg[10].curvature_level, 5);
+  EXPECT_EQ(*seg[16].curvature_level, 5);  // first of 2-4
+  EXPECT_EQ(*seg[8].curvature_level, 0);
+}
+
+TEST(Junctions, NearestJunctionIsFoundThroughOtherPieces) {
+  // 1 -(50)- 2 -(50)- 3 where 2 is degree 2 (ways joined) and 3 is an X junction with 5, 6, 7.
+  // The first segment of 1-2 (midpoint 5 m from node 1) is 95 m from the junction at node 3.
+  GraphBuilder b;
+  b.add_piece(1, 2, straight({0, 0}, {50, 0}));
+  b.add_piece(2, 3, straight({50, 0}, {100, 0}));
+  b.add_piece(3, 5, straight({100, 0}, {150, 0}));
+  b.add_piece(3, 6, straight({100, 0}, {100, 50}));
+  b.add_piece(3, 7, straight({100, 0}, {100, -50}));
+  rp::compute_geometry_costs(b.graph, {});
+  EXPECT_EQ(b.graph.degree[3], 4);
+  EXPECT_NEAR(*b.graph.segments[0].junction_distance_m, 95.0, 1e-9);
+}
+
+// ---- The curvature window. -------------------------------------------------------------------
+
+TEST(CurvatureWindow, HandComputedExample) {
+  // A 400 m straight road of 40 segments of 10 m, no junction. Segment 20 (200..210 m) is given
+  // level 4 (weight 20), all others level 0 (weight 0.75).
+  GraphBuilder b;
+  b.add_piece(1, 2, straight({0, 0}, {400, 0}));
+  rp::GeometryParameters p;
+  rp::compute_geometry_costs(b.graph, p);
+  for (rp::Segment& s : b.graph.segments) s.curvature_level = 0;
+  b.graph.segments[20].curvature_level = 4;
+  const std::vector<rp::Stroke> strokes = rp::build_strokes(b.graph);
+  ASSERT_EQ(strokes.size(), 1u);
+  rp::assign_curvature_costs(b.graph, strokes[0], p);
+  const auto cost = [&](std::size_t i) { return *b.graph.segments[i].curvature_cost; };
+  // Segment 20, window 105..305: itself 10 m x3 at 20, 190 m at 0.75:
+  //   (600 + 142.5) / (30 + 190) = 3.375 -> 3.
+  EXPECT_EQ(cost(20), 3);
+  // Segment 21, window 115..315: segment 20 (10 m at 20), itself x3 at 0.75, 180 m at 0.75:
+  //   (200 + 22.5 + 135) / 220 = 1.625 -> 1.
+  EXPECT_EQ(cost(21), 1);
+  // Segment 11, window 15..215: segment 20 fully inside: same as 21 -> 1.
+  EXPECT_EQ(cost(11), 1);
+  // Segment 10, window 5..205: 5 m of segment 20 at 20, itself 30 at 0.75, 185 m at 0.75:
+  //   (100 + 22.5 + 138.75) / 220 = 1.1875 -> 1.
+  EXPECT_EQ(cost(10), 1);
+  // Segment 9, window -5..195 (clipped at the road's start to 0..195): does not reach 200.
+  EXPECT_EQ(cost(9), 0);
+  // Segment 0, window 0..105 (clipped): (10 * 0.75 * 3 + 95 * 0.75) / 125 = 0.75 -> 0.
+  EXPECT_EQ(cost(0), 0);
+  // With level 5 (weight 30) on segment 20: (900 + 142.5) / 220 = 4.74 -> 4.
+  b.graph.segments[20].curvature_level = 5;
+  rp::assign_curvature_costs(b.graph, strokes[0], p);
+  EXPECT_EQ(cost(20), 4);
+  // Every segment at level 5: 30 -> clamped to 14.
+  for (rp::Segment& s : b.graph.segments) s.curvature_level = 5;
+  rp::assign_curvature_costs(b.graph, strokes[0], p);
+  EXPECT_EQ(cost(0), 14);
+  // Every segment at level 1 (weight 3): exactly 3, not floored to 2 by rounding.
+  for (rp::Segment& s : b.graph.segments) s.curvature_level = 1;
+  rp::assign_curvature_costs(b.graph, strokes[0], p);
+  EXPECT_EQ(cost(17), 3);
+}
+
+TEST(Strokes, ChainThroughDegreeTwoAndStopAtJunctions) {
+  // 1 -> 2 <- 3 (the second piece drawn backwards) joined at degree-2 node 2, then a junction at
+  // 3 with two more roads. The first stroke runs 1..3 with the second piece reversed.
+  GraphBuilder b;
+  b.add_piece(1, 2, straight({0, 0}, {30, 0}));
+  b.add_piece(3, 2, straight({60, 0}, {30, 0}));
+  b.add_piece(3, 4, straight({60, 0}, {90, 0}));
+  b.add_piece(3, 5, straight({60, 0}, {60, 30}));
+  const auto strokes = rp::build_strokes(b.graph);
+  ASSERT_EQ(strokes.size(), 3u);
+  const rp::Stroke& first = strokes[0];
+  EXPECT_NEAR(first.length_m, 60.0, 1e-9);
+  ASSERT_EQ(first.segments.size(), 6u);
+  EXPECT_FALSE(first.segments[0].reversed);
+  EXPECT_TRUE(first.segments[3].reversed);
+  EXPECT_NEAR(first.segments[3].start_m, 30.0, 1e-9);
+  EXPECT_NEAR(first.segments[5].end_m, 60.0, 1e-9);
+  EXPECT_EQ(first.points.size(), 3u);  // the joint is not repeated
+}
+
+TEST(Strokes, IsolatedRoundaboutIsAClosedStroke) {
+  GraphBuilder b;
+  std::vector<PlanePoint> ring = arc(20, 2, 2 * kPi);
+  ring.back() = ring.front();
+  b.add_piece(1, 1, ring);
+  const auto strokes = rp::build_strokes(b.graph);
+  ASSERT_EQ(strokes.size(), 1u);
+  EXPECT_TRUE(strokes[0].closed);
+  rp::compute_geometry_costs(b.graph, {});
+  // Every segment of a 20 m ring has the ring's radius (no open ends on a ring).
+  for (const rp::Segment& s : b.graph.segments) EXPECT_NEAR(*s.radius_m, 20.0, 2.0);
+}
+
+// ---- Class, tunnel, rank. --------------------------------------------------------------------
+
+TEST(ClassCost, DesignTable) {
+  const rp::GeometryParameters p;
+  EXPECT_EQ(rp::class_cost("primary", p), 5);
+  EXPECT_EQ(rp::class_cost("primary_link", p), 5);
+  EXPECT_EQ(rp::class_cost("secondary", p), 4);
+  EXPECT_EQ(rp::class_cost("tertiary_link", p), 3);
+  EXPECT_EQ(rp::class_cost("busway", p), 3);
+  EXPECT_EQ(rp::class_cost("residential", p), 2);
+  EXPECT_EQ(rp::class_cost("living_street", p), 2);
+  EXPECT_EQ(rp::class_cost("service", p), 2);
+  EXPECT_EQ(rp::class_cost("road", p), 2);
+  EXPECT_EQ(rp::class_cost("unclassified", p), 1);
+  EXPECT_EQ(rp::class_cost("motorway", p), 5);
+}
+
+TEST(ClassCost, MotorwayAndTunnelReasons) {
+  GraphBuilder b;
+  b.add_piece(1, 2, straight({0, 0}, {30, 0}), "motorway");
+  b.add_piece(3, 4, straight({0, 100}, {30, 100}), "trunk_link");
+  b.add_piece(5, 6, straight({0, 200}, {30, 200}), "residential");
+  for (rp::Segment& s : b.graph.segments) s.tunnel = s.piece_index == 2;
+  rp::compute_geometry_costs(b.graph, {});
+  EXPECT_EQ(b.graph.segments[0].reasons, std::vector<std::string>{"NOT_CROSSABLE_CLASS"});
+  EXPECT_EQ(b.graph.segments[3].reasons, std::vector<std::string>{"NOT_CROSSABLE_CLASS"});
+  EXPECT_EQ(b.graph.segments[6].reasons, std::vector<std::string>{"TUNNEL"});
+}
+
+TEST(Rank, FormulaEdgesAndReachability) {
+  const rp::RankParameters p;
+  // Without elevation: 15 * (70 c/14 + 5 k/5) / 75.
+  EXPECT_EQ(rp::rank_of(0, 1, std::nullopt, p), 0);    // 15 * 1 / 75 = 0.2
+  EXPECT_EQ(rp::rank_of(0, 5, std::nullopt, p), 1);    // 15 * 5 / 75 = 1
+  EXPECT_EQ(rp::rank_of(0, 2, std::nullopt, p), 0);    // 0.4: a quiet straight residential road
+  EXPECT_EQ(rp::rank_of(14, 0, std::nullopt, p), 14);  // 15 * 70 / 75 = 14 exactly
+  EXPECT_EQ(rp::rank_of(14, 5, std::nullopt, p), 14);  // 15, clamped
+  EXPECT_EQ(rp::rank_of(7, 2, std::nullopt, p), 7);    // 15 * (35 + 2) / 75 = 7.4
+  // With elevation: 15 * (70 c/14 + 5 k/5 + 25 e/9) / 100.
+  EXPECT_EQ(rp::rank_of(0, 2, 0, p), 0);    // 0.3
+  EXPECT_EQ(rp::rank_of(0, 2, 9, p), 4);    // 15 * 27 / 100 = 4.05
+  EXPECT_EQ(rp::rank_of(14, 5, 9, p), 14);  // 15, clamped
+  EXPECT_EQ(rp::rank_of(13, 2, 9, p), 13);  // 15 * (65 + 2 + 25) / 100 = 13.8
+  EXPECT_EQ(rp::rank_of(14, 0, 9, p), 14);  // 15 * 95 / 100 = 14.25
+}
+
+TEST(Rank, BothEndsOccurForRealInputs) {
+  // A quiet straight residential road far from junctions ranks 0; a segment at a junction of a
+  // primary road (curvature cost 14 around it) ranks 14.
+  GraphBuilder b;
+  b.add_piece(1, 2, straight({0, 0}, {400, 0}), "residential");
+  // A star of five short primary roads: everything is within a few metres of the junction.
+  for (int k = 0; k < 5; ++k) {
+    const double t = 2 * kPi * k / 5;
+    b.add_piece(10, 20 + k, straight({1000, 0}, {1000 + 20 * std::cos(t), 20 * std::sin(t)}),
+                "primary");
+  }
+  rp::compute_geometry_costs(b.graph, {});
+  rp::compute_ranks(b.graph, {});
+  EXPECT_EQ(*b.graph.segments[20].rank, 0);
+  EXPECT_EQ(*b.graph.segments[20].score, 15);
+  const rp::Segment& at_junction = b.graph.segments[40];
+  EXPECT_EQ(*at_junction.curvature_level, 5);
+  EXPECT_EQ(*at_junction.curvature_cost, 14);  // floor(30) clamped
+  EXPECT_EQ(*at_junction.rank, 14);
+  EXPECT_EQ(*at_junction.score, 1);
+}
+
+TEST(Parameters, ValidationNamesTheParameter) {
+  rp::Parameters p;
+  p.geometry.window_half_length_m = -5;
+  try {
+    p.validate();
+    FAIL() << "expected ParameterError";
+  } catch (const rp::ParameterError& e) {
+    EXPECT_NE(std::string(e.what()).find("geometry.window_half_length_m"), std::string::npos);
+  }
+  rp::Parameters q;
+  q.geometry.class_cost_primary = 4.5;
+  EXPECT_THROW(q.validate(), rp::ParameterError);  // must be whole
+  rp::Parameters ok;
+  EXPECT_NO_THROW(ok.validate());
+  bool recorded = false;
+  for (const auto& [key, value] : ok.as_metadata()) {
+    if (key == "param.geometry.level5_weight") recorded = value == "30";
+  }
+  EXPECT_TRUE(recorded);
+}
+
+}  // namespace
