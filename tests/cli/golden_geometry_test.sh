@@ -50,7 +50,7 @@ column "$WORK/monaco.gpkg" "$seg" reasons | grep -q NEAR_JUNCTION || fail "junct
 
 # 3. The straight: every road vertex within 110 m of the point (read with GDAL's OSM driver,
 #    whichever ways they belong to) lies within 1 m of one straight line.
-ogr2ogr -q -f CSV "$WORK/near.csv" "/vsigzip/$bayreuth" lines -spat 11.5776 50.0409 11.5820 50.0433 \
+ogr2ogr -q --config CPL_VSIL_GZIP_WRITE_PROPERTIES NO -f CSV "$WORK/near.csv" "/vsigzip/$bayreuth" lines -spat 11.5776 50.0409 11.5820 50.0433 \
   -where "highway IS NOT NULL" -lco GEOMETRY=AS_WKT -select highway 2>/dev/null
 deviation=$(python3 - "$WORK/near.csv" <<'PY' | gdaltransform -s_srs EPSG:4326 -t_srs EPSG:32632 -output_xy | python3 -c '
 import math, sys
