@@ -183,6 +183,8 @@ RoadGraph build_road_graph(const RoadNetwork& network, geo::UtmZone zone,
       piece.to_node_id = run.ids[i];
       piece.points.assign(run.points.begin() + static_cast<std::ptrdiff_t>(start),
                           run.points.begin() + static_cast<std::ptrdiff_t>(i) + 1);
+      piece.node_ids.assign(run.ids.begin() + static_cast<std::ptrdiff_t>(start),
+                            run.ids.begin() + static_cast<std::ptrdiff_t>(i) + 1);
       ++graph.degree[piece.from_node_id];
       ++graph.degree[piece.to_node_id];
       graph.pieces.push_back(std::move(piece));

@@ -52,6 +52,8 @@ struct Segment {
   std::optional<double> crossing_distance_m;
   std::optional<std::string> context_defaulted;
   std::optional<std::string> override_note;
+  bool override_no_crossing = false;     ///< an operator override forbids crossing here
+  bool override_force_suitable = false;  ///< an operator override declares it suitable
   // Result.
   std::optional<int> rank, score;
   std::vector<std::string> reasons;
@@ -62,6 +64,7 @@ struct RoadPiece {
   std::int64_t from_node_id = 0;  ///< OSM id of the graph node at the start
   std::int64_t to_node_id = 0;
   std::vector<PlanePoint> points;  ///< the OSM vertices of the piece, UTM metres
+  std::vector<std::int64_t> node_ids;  ///< OSM node id of each vertex in `points`
   double length_m = 0.0;
   std::size_t first_segment = 0;  ///< index into the segment vector
   std::size_t segment_count = 0;
