@@ -77,7 +77,12 @@ BuildSummary run_build(const BuildOptions& options) {
   contents.metadata.emplace_back(input + "kind", "osm");
   contents.metadata.emplace_back(input + "file", base_name(options.osm_path));
   contents.metadata.emplace_back(input + "sha256", osm_sha256);
-  write_geopackage(output.temp_path(), contents, progress);
+  try {
+    write_geopackage(output.temp_path(), contents, progress);
+  } catch (const OutputError& e) {
+    // Name the file the user asked for; the temporary one is gone when this propagates.
+    throw OutputError(options.output_path + ": " + e.what() + " (is the disk full, or a file size limit reached?)");
+  }
   output.commit();
 
   BuildSummary summary;

@@ -206,7 +206,7 @@ void write_geopackage(const std::string& path, const DatabaseContents& contents,
     for (const auto& [key, value] : contents.metadata) put(key, value);
     db.exec("COMMIT");
   } catch (const sqlite::sqlite_error& e) {
-    throw OutputError(path + ": cannot write the database: " + e.what());
+    throw OutputError(std::string("cannot write the database: ") + e.what());
   }
   progress.finish_stage(std::to_string(graph.segments.size()) + " segments");
 }

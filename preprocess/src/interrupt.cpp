@@ -38,6 +38,10 @@ void install_interrupt_cleanup() noexcept {
   action.sa_handler = on_interrupt;
   sigemptyset(&action.sa_mask);
   for (int signal_number : {SIGINT, SIGTERM, SIGHUP}) sigaction(signal_number, &action, nullptr);
+  // Past a file size limit (ulimit -f) the kernel would kill the process with SIGXFSZ before it
+  // could clean up; ignored, the write fails with EFBIG instead and the build reports it and
+  // removes its temporary file like any other full disk.
+  std::signal(SIGXFSZ, SIG_IGN);
 }
 
 void set_interrupt_cleanup_path(const char* path) noexcept {

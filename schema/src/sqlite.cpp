@@ -1,6 +1,23 @@
 #include "roadcross/schema/sqlite.hpp"
 
+#include <cstring>
+
 namespace roadcross::sqlite {
+namespace {
+
+/// SQLite's message, plus the operating system's reason for I/O errors ("File too large",
+/// "No space left on device") which SQLite's own text ("disk I/O error") hides.
+std::string describe(sqlite3* db, int rc) {
+  std::string message = db ? sqlite3_errmsg(db) : sqlite3_errstr(rc);
+  const int primary = rc & 0xff;
+  if (db && (primary == SQLITE_IOERR || primary == SQLITE_FULL || primary == SQLITE_CANTOPEN)) {
+    const int os_error = sqlite3_system_errno(db);
+    if (os_error != 0) message += std::string(": ") + std::strerror(os_error);
+  }
+  return message;
+}
+
+}  // namespace
 
 Database::Database(const std::string& path, int flags) {
   const int rc = sqlite3_open_v2(path.c_str(), &db_, flags, nullptr);
@@ -20,7 +37,7 @@ void Database::exec(std::string_view sql) {
   const std::string statement(sql);
   const int rc = sqlite3_exec(db_, statement.c_str(), nullptr, nullptr, &error);
   if (rc != SQLITE_OK) {
-    std::string message = error ? error : sqlite3_errstr(rc);
+    std::string message = describe(db_, rc);
     sqlite3_free(error);
     throw sqlite_error(rc, message + " (in: " + statement.substr(0, 120) + ")");
   }
@@ -64,7 +81,7 @@ bool Statement::step() {
   const int rc = sqlite3_step(stmt_);
   if (rc == SQLITE_ROW) return true;
   if (rc == SQLITE_DONE) return false;
-  throw sqlite_error(rc, sqlite3_errmsg(db_));
+  throw sqlite_error(rc, describe(db_, rc));
 }
 
 void Statement::run() {
