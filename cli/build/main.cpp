@@ -3,6 +3,7 @@
 
 #include <cstdio>
 #include <iostream>
+#include <nlohmann/json.hpp>
 
 #include "roadcross/preprocess/build.hpp"
 #include "roadcross/preprocess/errors.hpp"
@@ -11,6 +12,31 @@
 #include "roadcross/version.hpp"
 
 namespace rp = roadcross::preprocess;
+
+namespace {
+
+void print_json_summary(const rp::BuildOptions& options, const rp::BuildSummary& s) {
+  nlohmann::ordered_json out;
+  out["output"] = options.output_path;
+  out["utm_zone"] = s.zone.zone;
+  out["utm_northern"] = s.zone.northern;
+  out["road_ways"] = s.road_ways;
+  out["pieces"] = s.pieces;
+  out["segments"] = s.segments;
+  out["junctions"] = s.junctions;
+  out["total_length_m"] = s.total_length_m;
+  out["missing_node_refs"] = s.missing_node_refs;
+  nlohmann::ordered_json stages = nlohmann::ordered_json::array();
+  for (const rp::StageRecord& stage : s.stages) {
+    stages.push_back({{"stage", stage.name}, {"seconds", stage.seconds}, {"summary", stage.summary}});
+  }
+  out["stages"] = stages;
+  out["seconds"] = s.seconds;
+  out["peak_rss_mib"] = static_cast<double>(s.peak_rss_kib) / 1024.0;
+  std::cout << out.dump(2) << "\n";
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -31,7 +57,9 @@ int main(int argc, char** argv) {
         ->capture_default_str()
         ->group("Model parameters");
   }
-  app.add_flag("-q,--quiet", quiet, "no progress output");
+  app.add_flag("-q,--quiet", quiet, "no progress output and no summary");
+  bool json = false;
+  app.add_flag("--json", json, "print the final summary as JSON on stdout");
   CLI11_PARSE(app, argc, argv);
 
   rp::install_interrupt_cleanup();
@@ -39,7 +67,9 @@ int main(int argc, char** argv) {
   options.tool_version = roadcross::kVersion;
   try {
     const rp::BuildSummary s = rp::run_build(options);
-    if (!quiet) {
+    if (json) {
+      print_json_summary(options, s);
+    } else if (!quiet) {
       std::printf("%s: %llu segments (%.1f km) from %llu road ways, %llu junctions, UTM zone %d%s, %.2f s\n",
                   options.output_path.c_str(), static_cast<unsigned long long>(s.segments),
                   s.total_length_m / 1000.0, static_cast<unsigned long long>(s.road_ways),

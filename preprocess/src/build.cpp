@@ -1,5 +1,7 @@
 #include "roadcross/preprocess/build.hpp"
 
+#include <sys/resource.h>
+
 #include <chrono>
 #include <cmath>
 #include <ctime>
@@ -95,6 +97,9 @@ BuildSummary run_build(const BuildOptions& options) {
   summary.missing_node_refs = graph.dropped_node_refs;
   summary.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  summary.stages = progress.stages();
+  struct rusage usage {};
+  if (::getrusage(RUSAGE_SELF, &usage) == 0) summary.peak_rss_kib = usage.ru_maxrss;
   return summary;
 }
 

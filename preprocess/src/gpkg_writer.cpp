@@ -161,7 +161,7 @@ void write_segment_rtree(sqlite::Database& db, const RoadGraph& graph) {
 void write_geopackage(const std::string& path, const DatabaseContents& contents,
                       Progress& progress) {
   const RoadGraph& graph = *contents.graph;
-  progress.start_stage("writing " + path);
+  progress.start_stage("writing the GeoPackage", "segments");
   try {
     sqlite::Database db(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOMUTEX);
     // The file is private until renamed into place, so durability tricks are unnecessary:

@@ -14,8 +14,9 @@ Progress::~Progress() {
   if (open_line_) std::fputc('\n', stderr);
 }
 
-void Progress::start_stage(const std::string& name) {
+void Progress::start_stage(const std::string& name, const std::string& unit) {
   stage_ = name;
+  unit_ = unit;
   stage_start_ = std::chrono::steady_clock::now();
   last_draw_ = {};
   draw(stage_ + " ...");
@@ -26,12 +27,18 @@ void Progress::update(std::uint64_t done, std::uint64_t total) {
   const auto now = std::chrono::steady_clock::now();
   if (now - last_draw_ < std::chrono::milliseconds(100)) return;
   last_draw_ = now;
-  char text[128];
-  if (total > 0) {
-    std::snprintf(text, sizeof text, " %5.1f %%",
-                  100.0 * static_cast<double>(done) / static_cast<double>(total));
+  const double elapsed_s = std::chrono::duration<double>(now - stage_start_).count();
+  const double scale = unit_ == "MB" ? 1e-6 : 1.0;
+  const double rate = elapsed_s > 0.0 ? static_cast<double>(done) * scale / elapsed_s : 0.0;
+  char text[160];
+  if (total > 0 && done > 0) {
+    const double fraction = static_cast<double>(done) / static_cast<double>(total);
+    const double eta_s = elapsed_s * (1.0 - fraction) / fraction;
+    std::snprintf(text, sizeof text, " %5.1f %%  %.4g %s/s  %.0f s left", 100.0 * fraction, rate,
+                  unit_.c_str(), eta_s);
   } else {
-    std::snprintf(text, sizeof text, " %llu", static_cast<unsigned long long>(done));
+    std::snprintf(text, sizeof text, " %.0f %s  %.4g %s/s", static_cast<double>(done) * scale,
+                  unit_.c_str(), rate, unit_.c_str());
   }
   draw(stage_ + text);
 }
@@ -39,6 +46,7 @@ void Progress::update(std::uint64_t done, std::uint64_t total) {
 void Progress::finish_stage(const std::string& summary) {
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - stage_start_).count();
+  stages_.push_back({stage_, seconds, summary});
   char text[64];
   std::snprintf(text, sizeof text, " (%.2f s)", seconds);
   draw(stage_ + ": " + summary + text);

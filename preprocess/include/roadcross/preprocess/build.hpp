@@ -8,6 +8,7 @@
 
 #include "roadcross/geo.hpp"
 #include "roadcross/preprocess/parameters.hpp"
+#include "roadcross/preprocess/progress.hpp"
 
 namespace roadcross::preprocess {
 
@@ -28,6 +29,8 @@ struct BuildSummary {
   double total_length_m = 0.0;
   std::uint64_t missing_node_refs = 0;
   double seconds = 0.0;
+  std::vector<StageRecord> stages;  ///< name, seconds and summary of every stage, in order
+  std::int64_t peak_rss_kib = 0;    ///< peak resident memory of the process, KiB
 };
 
 /// Runs the whole build. The output appears only when everything succeeded: on any exception
