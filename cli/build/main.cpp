@@ -1,6 +1,7 @@
 // roadcross-build: OSM extract (+ elevation, later) -> roadcross GeoPackage.
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -8,6 +9,7 @@
 #include "roadcross/preprocess/build.hpp"
 #include "roadcross/preprocess/errors.hpp"
 #include "roadcross/preprocess/interrupt.hpp"
+#include "roadcross/preprocess/parameter_file.hpp"
 #include "roadcross/preprocess/progress.hpp"
 #include "roadcross/version.hpp"
 
@@ -26,6 +28,8 @@ void print_json_summary(const rp::BuildOptions& options, const rp::BuildSummary&
   out["junctions"] = s.junctions;
   out["total_length_m"] = s.total_length_m;
   out["missing_node_refs"] = s.missing_node_refs;
+  out["crossings"] = s.crossings;
+  out["notes"] = s.notes;
   nlohmann::ordered_json stages = nlohmann::ordered_json::array();
   for (const rp::StageRecord& stage : s.stages) {
     stages.push_back({{"stage", stage.name}, {"seconds", stage.seconds}, {"summary", stage.summary}});
@@ -34,6 +38,19 @@ void print_json_summary(const rp::BuildOptions& options, const rp::BuildSummary&
   out["seconds"] = s.seconds;
   out["peak_rss_mib"] = static_cast<double>(s.peak_rss_kib) / 1024.0;
   std::cout << out.dump(2) << "\n";
+}
+
+/// Parameters from --config FILE, with every --section.name flag given on the command line
+/// taking precedence over the file.
+void apply_config_file(CLI::App& app, const std::string& path, rp::Parameters& parameters) {
+  rp::Parameters merged;
+  rp::read_parameter_file(path, merged);
+  const std::vector<rp::ParameterSpec> from_flags = parameters.specs();
+  const std::vector<rp::ParameterSpec> into = merged.specs();
+  for (std::size_t i = 0; i < into.size(); ++i) {
+    if (app.get_option("--" + into[i].key())->count() > 0) *into[i].value = *from_flags[i].value;
+  }
+  parameters = merged;
 }
 
 }  // namespace
@@ -47,10 +64,25 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("roadcross-build ") + roadcross::kVersion);
   rp::BuildOptions options;
   bool quiet = false;
+  // --print-config needs no input or output.
+  const bool printing_config = std::any_of(
+      argv + 1, argv + argc, [](const char* arg) { return std::string_view(arg) == "--print-config"; });
   app.add_option("--osm", options.osm_path, "OSM input: .osm, .osm.gz, .osm.bz2 or .osm.pbf")
-      ->required();
+      ->required(!printing_config);
   app.add_option("-o,--output", options.output_path, "output GeoPackage (.gpkg); replaced atomically")
-      ->required();
+      ->required(!printing_config);
+  std::string config_path;
+  bool print_config = false;
+  app.add_option("--config", config_path,
+                 "parameter file (INI/TOML, as --print-config writes); --section.name flags override it");
+  app.add_flag("--print-config", print_config,
+               "print every parameter (with --config and flags applied) as a parameter file and exit");
+  app.add_option("--overrides", options.overrides_path,
+                 "operator overrides: GeoJSON polygons or osm_way_id with context_delta, no_crossing, "
+                 "force_suitable, note");
+  app.add_option("--country", options.country,
+                 "country of implicit speed limits for untagged ways (CZ, SK, DE, AT, PL, FR, MC, "
+                 "default); default: from the tags, else the extract's location");
   // Every model parameter is also a flag: --segments.max_segment_length_m 8
   for (const rp::ParameterSpec& spec : options.parameters.specs()) {
     app.add_option("--" + spec.key(), *spec.value, spec.description)
@@ -61,6 +93,17 @@ int main(int argc, char** argv) {
   bool json = false;
   app.add_flag("--json", json, "print the final summary as JSON on stdout");
   CLI11_PARSE(app, argc, argv);
+  try {
+    if (!config_path.empty()) apply_config_file(app, config_path, options.parameters);
+    if (print_config) {
+      options.parameters.validate();
+      std::cout << rp::format_parameter_file(options.parameters);
+      return 0;
+    }
+  } catch (const rp::ParameterError& e) {
+    std::cerr << "roadcross-build: invalid parameter: " << e.what() << "\n";
+    return 2;
+  }
 
   rp::install_interrupt_cleanup();
   options.show_progress = !quiet && rp::Progress::stderr_is_terminal();
@@ -79,6 +122,7 @@ int main(int argc, char** argv) {
         std::printf("note: %llu node references of road ways were not in the file (cut by the extract)\n",
                     static_cast<unsigned long long>(s.missing_node_refs));
       }
+      for (const std::string& note : s.notes) std::printf("  %s\n", note.c_str());
     }
     return 0;
   } catch (const rp::ParameterError& e) {

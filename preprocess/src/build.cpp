@@ -6,9 +6,12 @@
 #include <cmath>
 #include <ctime>
 
+#include "roadcross/preprocess/context.hpp"
 #include "roadcross/preprocess/errors.hpp"
 #include "roadcross/preprocess/geometry_cost.hpp"
 #include "roadcross/preprocess/gpkg_writer.hpp"
+#include "roadcross/preprocess/osm_tags.hpp"
+#include "roadcross/preprocess/overrides.hpp"
 #include "roadcross/preprocess/progress.hpp"
 #include "roadcross/preprocess/rank.hpp"
 #include "roadcross/preprocess/road_network.hpp"
@@ -42,6 +45,16 @@ BuildSummary run_build(const BuildOptions& options) {
   if (options.osm_path.empty()) throw ParameterError("an OSM input file is required (--osm)");
   if (options.output_path.empty()) throw ParameterError("an output path is required (-o)");
 
+  if (!options.country.empty() && !has_implicit_speeds(options.country)) {
+    throw ParameterError("--country " + options.country +
+                         ": no implicit speed limits for it (known: CZ, SK, DE, AT, PL, FR, MC, "
+                         "default)");
+  }
+  // Overrides are read before the long work so that a bad file fails at once.
+  const std::vector<Override> overrides = options.overrides_path.empty()
+                                              ? std::vector<Override>{}
+                                              : read_overrides(options.overrides_path);
+
   // Create the temporary output first: an unwritable target fails before minutes of work.
   AtomicOutput output(options.output_path);
   Progress progress(options.show_progress);
@@ -64,10 +77,15 @@ BuildSummary run_build(const BuildOptions& options) {
   progress.start_stage("geometry cost");
   compute_geometry_costs(graph, options.parameters.geometry);
   progress.finish_stage("class, junctions, curvature");
+  progress.start_stage("context");
+  const ContextReport context =
+      compute_context(graph, network, options.parameters.context, options.country, overrides);
+  progress.finish_stage(std::to_string(context.crossings.size()) + " crossings");
   compute_ranks(graph, options.parameters.rank);
 
   DatabaseContents contents;
   contents.graph = &graph;
+  contents.crossings = &context.crossings;
   contents.last_change = iso8601_utc(network.newest_timestamp_s);
   contents.metadata = options.parameters.as_metadata();
   contents.metadata.emplace_back(schema::meta::kToolVersion, options.tool_version);
@@ -79,11 +97,26 @@ BuildSummary run_build(const BuildOptions& options) {
   contents.metadata.emplace_back(input + "kind", "osm");
   contents.metadata.emplace_back(input + "file", base_name(options.osm_path));
   contents.metadata.emplace_back(input + "sha256", osm_sha256);
+  contents.metadata.emplace_back(schema::meta::kContextCountry, context.country.country);
+  contents.metadata.emplace_back(schema::meta::kCrossingCount,
+                                 std::to_string(context.crossings.size()));
+  if (!options.overrides_path.empty()) {
+    // The next free input number (other inputs, e.g. elevation, may be recorded before).
+    std::size_t n = 0;
+    for (const auto& [key, value] : contents.metadata) n += key.ends_with(".kind") ? 1 : 0;
+    const std::string overrides_input =
+        std::string(schema::meta::kInputPrefix) + std::to_string(n) + ".";
+    contents.metadata.emplace_back(overrides_input + "kind", "overrides");
+    contents.metadata.emplace_back(overrides_input + "file", base_name(options.overrides_path));
+    contents.metadata.emplace_back(overrides_input + "sha256",
+                                   sha256_of_file(options.overrides_path));
+  }
   try {
     write_geopackage(output.temp_path(), contents, progress);
   } catch (const OutputError& e) {
     // Name the file the user asked for; the temporary one is gone when this propagates.
-    throw OutputError(options.output_path + ": " + e.what() + " (is the disk full, or a file size limit reached?)");
+    throw OutputError(options.output_path + ": " + e.what() +
+                      " (is the disk full, or a file size limit reached?)");
   }
   output.commit();
 
@@ -95,6 +128,8 @@ BuildSummary run_build(const BuildOptions& options) {
   for (const auto& [node, degree] : graph.degree) summary.junctions += degree >= 3 ? 1 : 0;
   for (const Segment& s : graph.segments) summary.total_length_m += s.length_m;
   summary.missing_node_refs = graph.dropped_node_refs;
+  summary.crossings = context.crossings.size();
+  summary.notes = context.summary_lines();
   summary.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   summary.stages = progress.stages();

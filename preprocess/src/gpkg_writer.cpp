@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include "roadcross/preprocess/errors.hpp"
@@ -102,6 +103,8 @@ void bind_segment(sqlite::Statement& insert, const Segment& s, std::int32_t srs_
   insert.bind(i++, s.crossing_distance_m);
   insert.bind(i++, s.context_defaulted);
   insert.bind(i++, s.override_note);
+  insert.bind(i++, int{s.override_no_crossing});
+  insert.bind(i++, int{s.override_force_suitable});
   insert.bind(i++, s.rank);
   insert.bind(i++, s.score);
   if (s.reasons.empty()) {
@@ -156,6 +159,46 @@ void write_segment_rtree(sqlite::Database& db, const RoadGraph& graph) {
   bulk_load_rtree(db.handle(), std::string(schema::kSegmentsRtree), entries);
 }
 
+/// Inserts the crossing points (fid 1..n in the given order) and fills their R*Tree; returns
+/// their extent, or nullopt when there are none.
+std::optional<schema::Envelope> write_crossings(sqlite::Database& db,
+                                                const std::vector<Crossing>& crossings,
+                                                std::int32_t srs_id) {
+  std::string names = "fid, geom", params = "?, ?";
+  for (const schema::Column& column : schema::crossing_columns()) {
+    names += ", " + std::string(column.name);
+    params += ", ?";
+  }
+  sqlite::Statement insert = db.prepare("INSERT INTO " + std::string(schema::kCrossingsTable) +
+                                        " (" + names + ") VALUES (" + params + ")");
+  std::vector<RtreeEntry> entries;
+  std::int64_t fid = 0;
+  for (const Crossing& c : crossings) {
+    int i = 1;
+    insert.bind(i++, ++fid);
+    insert.bind(i++, std::span<const std::uint8_t>(schema::encode_point(c.point, srs_id)));
+    insert.bind(i++, c.osm_id);
+    insert.bind(i++, c.osm_type);
+    insert.bind(i++, c.kind.type);
+    insert.bind(i++, int{c.kind.signals});
+    insert.bind(i++, int{c.kind.designated});
+    insert.bind(i++, c.segment_id);
+    if (i - 1 != insert.parameter_count()) throw std::logic_error("crossings insert: column count");
+    insert.run();
+    entries.push_back({fid, schema::Envelope{c.point.x, c.point.x, c.point.y, c.point.y}});
+  }
+  bulk_load_rtree(db.handle(), std::string(schema::kCrossingsRtree), entries);
+  if (entries.empty()) return std::nullopt;
+  schema::Envelope extent = entries.front().box;
+  for (const RtreeEntry& e : entries) {
+    extent.min_x = std::min(extent.min_x, e.box.min_x);
+    extent.max_x = std::max(extent.max_x, e.box.max_x);
+    extent.min_y = std::min(extent.min_y, e.box.min_y);
+    extent.max_y = std::max(extent.max_y, e.box.max_y);
+  }
+  return extent;
+}
+
 }  // namespace
 
 void write_geopackage(const std::string& path, const DatabaseContents& contents,
@@ -178,16 +221,21 @@ void write_geopackage(const std::string& path, const DatabaseContents& contents,
     }
     const schema::Envelope extent = write_segment_rows(db, graph, progress);
     write_segment_rtree(db, graph);
-    {
-      auto update = db.prepare(
-          "UPDATE gpkg_contents SET min_x = ?, min_y = ?, max_x = ?, max_y = ? WHERE table_name = "
-          "?");
-      update.bind(1, extent.min_x);
-      update.bind(2, extent.min_y);
-      update.bind(3, extent.max_x);
-      update.bind(4, extent.max_y);
-      update.bind(5, schema::kSegmentsTable);
+    auto update = db.prepare(
+        "UPDATE gpkg_contents SET min_x = ?, min_y = ?, max_x = ?, max_y = ? WHERE table_name = "
+        "?");
+    const auto set_extent = [&](const schema::Envelope& e, std::string_view table) {
+      update.bind(1, e.min_x);
+      update.bind(2, e.min_y);
+      update.bind(3, e.max_x);
+      update.bind(4, e.max_y);
+      update.bind(5, table);
       update.run();
+    };
+    set_extent(extent, schema::kSegmentsTable);
+    if (contents.crossings) {
+      const auto crossing_extent = write_crossings(db, *contents.crossings, graph.zone.epsg());
+      if (crossing_extent) set_extent(*crossing_extent, schema::kCrossingsTable);
     }
     for (const std::string& statement : schema::rtree_trigger_statements()) db.exec(statement);
 

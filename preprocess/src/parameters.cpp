@@ -20,11 +20,21 @@ void SegmentParameters::describe(std::vector<ParameterSpec>& out) {
        "longest road segment, metres; pieces between junctions are cut into equal parts"});
 }
 
+void SuitabilityParameters::describe(std::vector<ParameterSpec>& out) {
+  out.push_back({"suitability", "threshold", &threshold, -1000, 1000, false,
+                 "suitable when score + context score >= this (thesis 20)"});
+  out.push_back(
+      {"suitability", "valid_distance_m", &valid_distance_m, 0, 1000, false,
+       "a position is valid within this distance of a road centreline, metres (thesis 10)"});
+}
+
 std::vector<ParameterSpec> Parameters::specs() {
   std::vector<ParameterSpec> out;
   segments.describe(out);
   geometry.describe(out);
   rank.describe(out);
+  context.describe(out);
+  suitability.describe(out);
   return out;
 }
 

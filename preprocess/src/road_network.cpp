@@ -30,6 +30,11 @@ bool is_kept_road_class(std::string_view highway) noexcept {
   return std::find(kKept.begin(), kKept.end(), highway) != kKept.end();
 }
 
+bool is_crossing_way(const Tags& tags) noexcept {
+  return (tag_value(tags, "footway") == "crossing" || tag_value(tags, "cycleway") == "crossing") &&
+         tag_value(tags, "area") != "yes";
+}
+
 const NodeLocation* RoadNetwork::find_location(std::int64_t node_id) const noexcept {
   auto it = std::lower_bound(locations.begin(), locations.end(), node_id,
                              [](const NodeLocation& n, std::int64_t id) { return n.osm_id < id; });
@@ -52,8 +57,9 @@ bool is_area(const osmium::TagList& tags) {
 
 /// Keys that make a node on a road interesting to later stages (crossings, signals, ...).
 bool has_interesting_tag(const osmium::TagList& tags) {
-  static constexpr std::array<const char*, 6> kKeys = {
-      "highway", "crossing", "crossing_ref", "crossing:markings", "traffic_signals", "barrier"};
+  static constexpr std::array<const char*, 7> kKeys = {
+      "highway",          "crossing",        "crossing_ref", "crossing:markings",
+      "crossing:signals", "traffic_signals", "barrier"};
   return std::any_of(kKeys.begin(), kKeys.end(),
                      [&](const char* key) { return tags.has_key(key); });
 }
@@ -66,7 +72,10 @@ class RoadWayCollector : public osmium::handler::Handler {
     ++network_.ways_read;
     note_timestamp(way);
     const char* highway = way.tags()["highway"];
-    if (!highway || !is_kept_road_class(highway) || is_area(way.tags())) return;
+    if (!highway || !is_kept_road_class(highway) || is_area(way.tags())) {
+      keep_crossing_way(way);
+      return;
+    }
     RoadWay road;
     road.osm_id = way.id();
     road.highway = highway;
@@ -74,6 +83,20 @@ class RoadWayCollector : public osmium::handler::Handler {
     road.node_ids.reserve(way.nodes().size());
     for (const osmium::NodeRef& ref : way.nodes()) road.node_ids.push_back(ref.ref());
     network_.ways.push_back(std::move(road));
+  }
+
+  /// footway=crossing / cycleway=crossing ways: ids and tags only, they are few.
+  void keep_crossing_way(const osmium::Way& way) {
+    const char* footway = way.tags()["footway"];
+    const char* cycleway = way.tags()["cycleway"];
+    const bool crossing = (footway && std::strcmp(footway, "crossing") == 0) ||
+                          (cycleway && std::strcmp(cycleway, "crossing") == 0);
+    if (!crossing || is_area(way.tags())) return;
+    CrossingWay kept;
+    kept.osm_id = way.id();
+    kept.tags = copy_tags(way.tags());
+    for (const osmium::NodeRef& ref : way.nodes()) kept.node_ids.push_back(ref.ref());
+    network_.crossing_ways.push_back(std::move(kept));
   }
 
   void note_timestamp(const osmium::OSMObject& object) {
@@ -87,14 +110,18 @@ class RoadWayCollector : public osmium::handler::Handler {
 
 class NodeLocationCollector : public osmium::handler::Handler {
  public:
-  NodeLocationCollector(RoadNetwork& network, const std::vector<std::int64_t>& wanted_sorted)
-      : network_(network), wanted_(wanted_sorted) {}
+  NodeLocationCollector(RoadNetwork& network, const std::vector<std::int64_t>& wanted_sorted,
+                        const std::vector<std::int64_t>& crossing_only_sorted)
+      : network_(network), wanted_(wanted_sorted), crossing_only_(crossing_only_sorted) {}
 
   void node(const osmium::Node& node) {
     ++network_.nodes_read;
     network_.newest_timestamp_s =
         std::max<std::int64_t>(network_.newest_timestamp_s, node.timestamp().seconds_since_epoch());
-    if (!std::binary_search(wanted_.begin(), wanted_.end(), node.id())) return;
+    if (!std::binary_search(wanted_.begin(), wanted_.end(), node.id())) {
+      keep_crossing_way_node(node);
+      return;
+    }
     const osmium::Location location = node.location();
     if (!location.valid()) return;  // deleted or invalid coordinates: treated as missing
     network_.locations.push_back({node.id(), location.lat(), location.lon()});
@@ -104,8 +131,16 @@ class NodeLocationCollector : public osmium::handler::Handler {
   }
 
  private:
+  void keep_crossing_way_node(const osmium::Node& node) {
+    if (!std::binary_search(crossing_only_.begin(), crossing_only_.end(), node.id())) return;
+    if (!node.location().valid()) return;
+    network_.crossing_way_locations.push_back(
+        {node.id(), node.location().lat(), node.location().lon()});
+  }
+
   RoadNetwork& network_;
   const std::vector<std::int64_t>& wanted_;
+  const std::vector<std::int64_t>& crossing_only_;
 };
 
 template <typename Handler>
@@ -144,10 +179,11 @@ RoadNetwork read_road_network(const std::string& path, Progress& progress) {
   RoadNetwork network;
   network.source_path = path;
   try {
-    progress.start_stage("reading road ways");
+    progress.start_stage("reading road ways", "MB");
     RoadWayCollector ways(network);
     read_pass(path, osmium::osm_entity_bits::way, ways, progress);
     sort_by_id_unique(network.ways);
+    sort_by_id_unique(network.crossing_ways);
     progress.finish_stage(std::to_string(network.ways.size()) + " road ways of " +
                           std::to_string(network.ways_read) + " ways");
 
@@ -157,10 +193,22 @@ RoadNetwork read_road_network(const std::string& path, Progress& progress) {
     std::sort(wanted.begin(), wanted.end());
     wanted.erase(std::unique(wanted.begin(), wanted.end()), wanted.end());
 
-    progress.start_stage("reading node locations");
-    NodeLocationCollector nodes(network, wanted);
+    // Nodes of crossing ways that no road uses (their locations find where they cross a road).
+    std::vector<std::int64_t> crossing_only;
+    for (const CrossingWay& way : network.crossing_ways) {
+      for (std::int64_t id : way.node_ids) {
+        if (!std::binary_search(wanted.begin(), wanted.end(), id)) crossing_only.push_back(id);
+      }
+    }
+    std::sort(crossing_only.begin(), crossing_only.end());
+    crossing_only.erase(std::unique(crossing_only.begin(), crossing_only.end()),
+                        crossing_only.end());
+
+    progress.start_stage("reading node locations", "MB");
+    NodeLocationCollector nodes(network, wanted, crossing_only);
     read_pass(path, osmium::osm_entity_bits::node, nodes, progress);
     sort_by_id_unique(network.locations);
+    sort_by_id_unique(network.crossing_way_locations);
     sort_by_id_unique(network.tagged_nodes);
     network.missing_locations = wanted.size() - network.locations.size();
     progress.finish_stage(std::to_string(network.locations.size()) + " road nodes of " +

@@ -16,7 +16,8 @@ const std::vector<Column>& segment_columns() {
        "road-graph node at the first vertex: the OSM node id, or a negative id for a split point "
        "inside a way"},
       {"to_node_id", "INTEGER NOT NULL", "road-graph node at the last vertex (same convention)"},
-      {"oneway", "INTEGER NOT NULL", "1 when the way is one-way (oneway=yes/1/true/-1, roundabout)"},
+      {"oneway", "INTEGER NOT NULL",
+       "1 when the way is one-way (oneway=yes/1/true/-1, roundabout)"},
       {"tunnel", "INTEGER NOT NULL", "1 in a tunnel, building passage or covered=yes"},
       {"bridge", "INTEGER NOT NULL", "1 on a bridge"},
       // Geometry cost (road class, junctions, curvature).
@@ -44,10 +45,32 @@ const std::vector<Column>& segment_columns() {
        "distance along the road to the nearest designated crossing, metres"},
       {"context_defaulted", "TEXT", "comma-separated context inputs that took a default"},
       {"override_note", "TEXT", "note of the operator override applied to this segment"},
+      {"override_no_crossing", "INTEGER NOT NULL DEFAULT 0",
+       "1 when an operator override forbids crossing here (never suitable)"},
+      {"override_force_suitable", "INTEGER NOT NULL DEFAULT 0",
+       "1 when an operator override declares this segment suitable whatever its score"},
       // Result.
       {"rank", "INTEGER", "0..14, higher is worse"},
       {"score", "INTEGER", "15 - rank"},
       {"reasons", "TEXT", "comma-separated reason codes"},
+  };
+  return columns;
+}
+
+const std::vector<Column>& crossing_columns() {
+  static const std::vector<Column> columns = {
+      {"osm_id", "INTEGER NOT NULL", "OSM id of the crossing node, or of the crossing way"},
+      {"osm_type", "TEXT NOT NULL",
+       "'node' (a crossing node on a road) or 'way' (where a "
+       "footway=crossing / cycleway=crossing way meets a road)"},
+      {"crossing_type", "TEXT NOT NULL",
+       "crossing=* value (zebra, marked, uncontrolled, traffic_signals, unmarked, informal, no, "
+       "...), else crossing_ref, else marked/unmarked from crossing:markings, else "
+       "'unspecified'"},
+      {"signals", "INTEGER NOT NULL", "1 when controlled by traffic signals"},
+      {"designated", "INTEGER NOT NULL",
+       "1 when it earns the crossing bonus (0 for crossing=informal and crossing=no)"},
+      {"segment_id", "INTEGER NOT NULL", "fid of the segment the crossing lies on"},
   };
   return columns;
 }
@@ -60,8 +83,7 @@ int utm_epsg(int zone, bool northern) {
 std::string utm_wkt(int zone, bool northern) {
   const int epsg = utm_epsg(zone, northern);
   const int central_meridian_deg = 6 * zone - 183;
-  const std::string name =
-      "WGS 84 / UTM zone " + std::to_string(zone) + (northern ? "N" : "S");
+  const std::string name = "WGS 84 / UTM zone " + std::to_string(zone) + (northern ? "N" : "S");
   return "PROJCS[\"" + name +
          "\",GEOGCS[\"WGS 84\",DATUM[\"WGS_1984\",SPHEROID[\"WGS 84\",6378137,298.257223563,"
          "AUTHORITY[\"EPSG\",\"7030\"]],AUTHORITY[\"EPSG\",\"6326\"]],PRIMEM[\"Greenwich\",0,"
@@ -88,14 +110,65 @@ std::string quote(std::string_view text) {
   return out + "'";
 }
 
-std::string segments_table_ddl() {
-  std::string ddl = "CREATE TABLE " + std::string(kSegmentsTable) +
-                    " (fid INTEGER PRIMARY KEY NOT NULL, " + std::string(kGeometryColumn) +
-                    " LINESTRING NOT NULL";
-  for (const Column& column : segment_columns()) {
+std::string feature_table_ddl(std::string_view table, std::string_view geometry_type,
+                              const std::vector<Column>& columns) {
+  std::string ddl = "CREATE TABLE " + std::string(table) + " (fid INTEGER PRIMARY KEY NOT NULL, " +
+                    std::string(kGeometryColumn) + " " + std::string(geometry_type) + " NOT NULL";
+  for (const Column& column : columns) {
     ddl += ", " + std::string(column.name) + " " + std::string(column.sql_type);
   }
   return ddl + ")";
+}
+
+std::string segments_table_ddl() {
+  return feature_table_ddl(kSegmentsTable, "LINESTRING", segment_columns());
+}
+
+/// The crossings feature table: its DDL, gpkg_contents and gpkg_geometry_columns rows, R*Tree.
+std::vector<std::string> crossings_statements(const std::string& srs,
+                                              std::string_view last_change) {
+  const std::string table(kCrossingsTable);
+  return {
+      feature_table_ddl(kCrossingsTable, "POINT", crossing_columns()),
+      "INSERT INTO gpkg_contents (table_name, data_type, identifier, description, last_change, "
+      "srs_id) VALUES (" +
+          quote(table) + ", 'features', 'crossings', 'designated road crossings', " +
+          quote(last_change) + ", " + srs + ")",
+      "INSERT INTO gpkg_geometry_columns VALUES (" + quote(table) + ", " + quote(kGeometryColumn) +
+          ", 'POINT', " + srs + ", 0, 0)",
+      "CREATE VIRTUAL TABLE " + std::string(kCrossingsRtree) +
+          " USING rtree(id, minx, maxx, miny, maxy)",
+      "INSERT INTO gpkg_extensions VALUES (" + quote(table) + ", " + quote(kGeometryColumn) +
+          ", 'gpkg_rtree_index', 'http://www.geopackage.org/spec120/#extension_rtree', "
+          "'write-only')",
+  };
+}
+
+/// The six GeoPackage R*Tree triggers of `table`.geom (spec 1.3, F.3).
+std::vector<std::string> rtree_triggers(const std::string& t, const std::string& r) {
+  const std::string c(kGeometryColumn);
+  const std::string bbox = "(NEW.fid, ST_MinX(NEW." + c + "), ST_MaxX(NEW." + c +
+                           "), ST_MinY(NEW." + c + "), ST_MaxY(NEW." + c + "))";
+  const std::string prefix = "CREATE TRIGGER " + r + "_";
+  return {
+      prefix + "insert AFTER INSERT ON " + t + " WHEN (new." + c +
+          " NOT NULL AND NOT ST_IsEmpty(NEW." + c + ")) BEGIN INSERT OR REPLACE INTO " + r +
+          " VALUES " + bbox + "; END",
+      prefix + "update1 AFTER UPDATE OF " + c + " ON " + t + " WHEN OLD.fid = NEW.fid AND (NEW." +
+          c + " NOTNULL AND NOT ST_IsEmpty(NEW." + c + ")) BEGIN INSERT OR REPLACE INTO " + r +
+          " VALUES " + bbox + "; END",
+      prefix + "update2 AFTER UPDATE OF " + c + " ON " + t + " WHEN OLD.fid = NEW.fid AND (NEW." +
+          c + " ISNULL OR ST_IsEmpty(NEW." + c + ")) BEGIN DELETE FROM " + r +
+          " WHERE id = OLD.fid; END",
+      prefix + "update3 AFTER UPDATE ON " + t + " WHEN OLD.fid != NEW.fid AND (NEW." + c +
+          " NOTNULL AND NOT ST_IsEmpty(NEW." + c + ")) BEGIN DELETE FROM " + r +
+          " WHERE id = OLD.fid; INSERT OR REPLACE INTO " + r + " VALUES " + bbox + "; END",
+      prefix + "update4 AFTER UPDATE ON " + t + " WHEN OLD.fid != NEW.fid AND (NEW." + c +
+          " ISNULL OR ST_IsEmpty(NEW." + c + ")) BEGIN DELETE FROM " + r +
+          " WHERE id IN (OLD.fid, NEW.fid); END",
+      prefix + "delete AFTER DELETE ON " + t + " WHEN old." + c + " NOT NULL BEGIN DELETE FROM " +
+          r + " WHERE id = OLD.fid; END",
+  };
 }
 
 }  // namespace
@@ -105,7 +178,7 @@ std::vector<std::string> create_statements(int zone, bool northern, std::string_
   const std::string srs = std::to_string(epsg);
   const std::string segments(kSegmentsTable);
   const std::string geom(kGeometryColumn);
-  return {
+  std::vector<std::string> statements = {
       "PRAGMA application_id = " + std::to_string(kGpkgApplicationId),
       "PRAGMA user_version = " + std::to_string(kGpkgUserVersion),
       // GeoPackage core tables (spec 1.3, clauses 1.1.2 and 1.1.3).
@@ -123,8 +196,8 @@ std::vector<std::string> create_statements(int zone, bool northern, std::string_
       "\"9122\"]],AXIS[\"Latitude\",NORTH],AXIS[\"Longitude\",EAST],AUTHORITY[\"EPSG\","
       "\"4326\"]]', 'longitude/latitude coordinates in decimal degrees on the WGS 84 spheroid')",
       "INSERT INTO gpkg_spatial_ref_sys VALUES (" +
-          quote("WGS 84 / UTM zone " + std::to_string(zone) + (northern ? "N" : "S")) + ", " +
-          srs + ", 'EPSG', " + srs + ", " + quote(utm_wkt(zone, northern)) + ", NULL)",
+          quote("WGS 84 / UTM zone " + std::to_string(zone) + (northern ? "N" : "S")) + ", " + srs +
+          ", 'EPSG', " + srs + ", " + quote(utm_wkt(zone, northern)) + ", NULL)",
       "CREATE TABLE gpkg_contents (table_name TEXT NOT NULL PRIMARY KEY, data_type TEXT NOT NULL, "
       "identifier TEXT UNIQUE, description TEXT DEFAULT '', last_change DATETIME NOT NULL, "
       "min_x DOUBLE, min_y DOUBLE, max_x DOUBLE, max_y DOUBLE, srs_id INTEGER, CONSTRAINT "
@@ -142,8 +215,7 @@ std::vector<std::string> create_statements(int zone, bool northern, std::string_
       segments_table_ddl(),
       "INSERT INTO gpkg_contents (table_name, data_type, identifier, description, last_change, "
       "srs_id) VALUES (" +
-          quote(segments) +
-          ", 'features', 'segments', 'road segments with crossing cost terms', " +
+          quote(segments) + ", 'features', 'segments', 'road segments with crossing cost terms', " +
           quote(last_change) + ", " + srs + ")",
       "INSERT INTO gpkg_geometry_columns VALUES (" + quote(segments) + ", " + quote(geom) +
           ", 'LINESTRING', " + srs + ", 0, 0)",
@@ -161,33 +233,20 @@ std::vector<std::string> create_statements(int zone, bool northern, std::string_
           "inputs', " +
           quote(last_change) + ")",
   };
+  for (std::string& statement : crossings_statements(srs, last_change)) {
+    statements.push_back(std::move(statement));
+  }
+  return statements;
 }
 
 std::vector<std::string> rtree_trigger_statements() {
-  const std::string t(kSegmentsTable);
-  const std::string c(kGeometryColumn);
-  const std::string r(kSegmentsRtree);
-  const std::string bbox = "(NEW.fid, ST_MinX(NEW." + c + "), ST_MaxX(NEW." + c +
-                           "), ST_MinY(NEW." + c + "), ST_MaxY(NEW." + c + "))";
-  const std::string prefix = "CREATE TRIGGER " + r + "_";
-  return {
-      prefix + "insert AFTER INSERT ON " + t + " WHEN (new." + c + " NOT NULL AND NOT ST_IsEmpty(NEW." +
-          c + ")) BEGIN INSERT OR REPLACE INTO " + r + " VALUES " + bbox + "; END",
-      prefix + "update1 AFTER UPDATE OF " + c + " ON " + t + " WHEN OLD.fid = NEW.fid AND (NEW." +
-          c + " NOTNULL AND NOT ST_IsEmpty(NEW." + c + ")) BEGIN INSERT OR REPLACE INTO " + r +
-          " VALUES " + bbox + "; END",
-      prefix + "update2 AFTER UPDATE OF " + c + " ON " + t + " WHEN OLD.fid = NEW.fid AND (NEW." +
-          c + " ISNULL OR ST_IsEmpty(NEW." + c + ")) BEGIN DELETE FROM " + r +
-          " WHERE id = OLD.fid; END",
-      prefix + "update3 AFTER UPDATE ON " + t + " WHEN OLD.fid != NEW.fid AND (NEW." + c +
-          " NOTNULL AND NOT ST_IsEmpty(NEW." + c + ")) BEGIN DELETE FROM " + r +
-          " WHERE id = OLD.fid; INSERT OR REPLACE INTO " + r + " VALUES " + bbox + "; END",
-      prefix + "update4 AFTER UPDATE ON " + t + " WHEN OLD.fid != NEW.fid AND (NEW." + c +
-          " ISNULL OR ST_IsEmpty(NEW." + c + ")) BEGIN DELETE FROM " + r +
-          " WHERE id IN (OLD.fid, NEW.fid); END",
-      prefix + "delete AFTER DELETE ON " + t + " WHEN old." + c + " NOT NULL BEGIN DELETE FROM " +
-          r + " WHERE id = OLD.fid; END",
-  };
+  std::vector<std::string> out =
+      rtree_triggers(std::string(kSegmentsTable), std::string(kSegmentsRtree));
+  for (std::string& statement :
+       rtree_triggers(std::string(kCrossingsTable), std::string(kCrossingsRtree))) {
+    out.push_back(std::move(statement));
+  }
+  return out;
 }
 
 }  // namespace roadcross::schema

@@ -16,6 +16,8 @@ struct BuildOptions {
   std::string osm_path;
   std::string output_path;
   Parameters parameters;
+  std::string overrides_path;  ///< operator overrides (GeoJSON), optional
+  std::string country;         ///< ISO code for implicit speed limits; empty: detect
   bool show_progress = false;
   std::string tool_version;
 };
@@ -31,6 +33,9 @@ struct BuildSummary {
   double seconds = 0.0;
   std::vector<StageRecord> stages;  ///< name, seconds and summary of every stage, in order
   std::int64_t peak_rss_kib = 0;    ///< peak resident memory of the process, KiB
+  std::uint64_t crossings = 0;
+  /// Lines for the user: defaults taken per tag, crossings, overrides that matched nothing.
+  std::vector<std::string> notes;
 };
 
 /// Runs the whole build. The output appears only when everything succeeded: on any exception

@@ -6,6 +6,7 @@
 #include <utility>
 #include <vector>
 
+#include "roadcross/preprocess/crossings.hpp"
 #include "roadcross/preprocess/segments.hpp"
 
 namespace roadcross::preprocess {
@@ -14,6 +15,8 @@ class Progress;
 
 struct DatabaseContents {
   const RoadGraph* graph = nullptr;
+  /// Rows of the crossings table (may be null: an empty table).
+  const std::vector<Crossing>* crossings = nullptr;
   /// Key/value pairs for roadcross_metadata (schema version, zone and segment count are added
   /// by the writer).
   std::vector<std::pair<std::string, std::string>> metadata;

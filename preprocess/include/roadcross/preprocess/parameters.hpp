@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "roadcross/preprocess/context.hpp"
 #include "roadcross/preprocess/geometry_cost.hpp"
 #include "roadcross/preprocess/parameter_spec.hpp"
 #include "roadcross/preprocess/rank.hpp"
@@ -20,10 +21,20 @@ struct SegmentParameters {
   void describe(std::vector<ParameterSpec>& out);
 };
 
+/// When a crossing place is suitable (DESIGN.md "Suitable"); applied by the runtime, recorded
+/// in the DB metadata with the rest.
+struct SuitabilityParameters {
+  double threshold = 20.0;         ///< suitable when score + context >= this
+  double valid_distance_m = 10.0;  ///< a position is valid within this of a road centreline
+  void describe(std::vector<ParameterSpec>& out);
+};
+
 struct Parameters {
   SegmentParameters segments;
   GeometryParameters geometry;
   RankParameters rank;
+  ContextParameters context;
+  SuitabilityParameters suitability;
   // Later sections (terrain, context, suitability) follow the same pattern.
 
   /// All parameters, pointing into this object. Order is stable (it is the file order).

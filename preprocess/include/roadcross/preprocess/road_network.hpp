@@ -41,11 +41,25 @@ struct TaggedNode {
   Tags tags;
 };
 
+/// A footway=crossing or cycleway=crossing way: where it meets a road is a designated
+/// crossing. Only these ways of the non-road network are kept (ids and tags, no geometry).
+struct CrossingWay {
+  std::int64_t osm_id = 0;
+  Tags tags;
+  std::vector<std::int64_t> node_ids;
+};
+
+/// True for the ways kept as CrossingWay: footway=crossing or cycleway=crossing, not an area.
+bool is_crossing_way(const Tags& tags) noexcept;
+
 struct RoadNetwork {
   std::string source_path;
   std::vector<RoadWay> ways;             ///< sorted by osm_id
   std::vector<NodeLocation> locations;   ///< sorted by osm_id, only nodes used by `ways`
   std::vector<TaggedNode> tagged_nodes;  ///< sorted by osm_id, only nodes used by `ways`
+  std::vector<CrossingWay> crossing_ways;  ///< sorted by osm_id
+  /// Locations of the crossing ways' nodes that no road way uses, sorted by osm_id.
+  std::vector<NodeLocation> crossing_way_locations;
   std::uint64_t ways_read = 0;           ///< all ways in the file
   std::uint64_t nodes_read = 0;          ///< all nodes in the file
   std::uint64_t missing_locations = 0;   ///< node references of road ways not in the file

@@ -23,6 +23,10 @@ inline constexpr std::string_view kSegmentsTable = "segments";
 inline constexpr std::string_view kGeometryColumn = "geom";
 inline constexpr std::string_view kSegmentsRtree = "rtree_segments_geom";
 inline constexpr std::string_view kMetadataTable = "roadcross_metadata";
+/// Designated crossings (and informal ones, flagged): a POINT feature table in the same CRS,
+/// with its own R*Tree. Columns: crossing_columns().
+inline constexpr std::string_view kCrossingsTable = "crossings";
+inline constexpr std::string_view kCrossingsRtree = "rtree_crossings_geom";
 
 /// Keys of the roadcross_metadata(key, value) table.
 namespace meta {
@@ -33,6 +37,9 @@ inline constexpr std::string_view kUtmNorthern = "utm_northern";  // "1" or "0"
 inline constexpr std::string_view kEpsg = "epsg";                 // 326zz / 327zz
 inline constexpr std::string_view kSegmentCount = "segment_count";
 inline constexpr std::string_view kAttribution = "attribution";
+/// Country whose implicit speed limits filled untagged ways ("CZ", ..., "default").
+inline constexpr std::string_view kContextCountry = "context_country";
+inline constexpr std::string_view kCrossingCount = "crossing_count";
 /// Parameters are stored as "param.<name>"; inputs as "input.<n>.path", "input.<n>.sha256",
 /// "input.<n>.kind".
 inline constexpr std::string_view kParamPrefix = "param.";
@@ -49,6 +56,9 @@ struct Column {
 /// The attribute columns of `segments` in their table order (after fid and geom).
 const std::vector<Column>& segment_columns();
 
+/// The attribute columns of `crossings` in their table order (after fid and geom).
+const std::vector<Column>& crossing_columns();
+
 /// EPSG code of WGS84 / UTM zone `zone` (1..60), north or south.
 int utm_epsg(int zone, bool northern);
 
@@ -60,8 +70,9 @@ std::string utm_wkt(int zone, bool northern);
 /// stays deterministic.
 std::vector<std::string> create_statements(int zone, bool northern, std::string_view last_change);
 
-/// SQL statements that create the GeoPackage R*Tree triggers for segments.geom. Run after the
-/// bulk load (the triggers call ST_* functions that plain SQLite does not provide).
+/// SQL statements that create the GeoPackage R*Tree triggers for segments.geom and
+/// crossings.geom. Run after the bulk load (the triggers call ST_* functions that plain SQLite
+/// does not provide).
 std::vector<std::string> rtree_trigger_statements();
 
 }  // namespace roadcross::schema
