@@ -16,23 +16,6 @@ double circumradius_m(PlanePoint a, PlanePoint b, PlanePoint c, double straight_
   return std::min(p * q * s / std::sqrt(sixteen_area_sq), straight_radius_m);
 }
 
-std::vector<PlanePoint> resample(const std::vector<PlanePoint>& line, double max_spacing_m) {
-  std::vector<PlanePoint> out;
-  if (line.empty()) return out;
-  out.push_back(line.front());
-  for (std::size_t i = 1; i < line.size(); ++i) {
-    const PlanePoint a = line[i - 1], b = line[i];
-    const double length = std::hypot(b.x - a.x, b.y - a.y);
-    const auto parts = static_cast<int>(std::ceil(length / max_spacing_m - 1e-9));
-    for (int k = 1; k < parts; ++k) {
-      const double t = static_cast<double>(k) / parts;
-      out.push_back({a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)});
-    }
-    out.push_back(b);
-  }
-  return out;
-}
-
 namespace {
 
 /// Arc-length positions of the points of a line.
@@ -56,6 +39,13 @@ PlanePoint point_at(const std::vector<PlanePoint>& line, const std::vector<doubl
   (void)total;
   return {line[j - 1].x + t * (line[j].x - line[j - 1].x),
           line[j - 1].y + t * (line[j].y - line[j - 1].y)};
+}
+
+/// Arm of the triangle at a vertex whose neighbour is `neighbour_m` away: at least the baseline
+/// (jitter between dense vertices), at most the maximum arm (a single vertex between long
+/// straight edges is a corner, not a curve as wide as the edges).
+double arm_m(double neighbour_m, const CurvatureOptions& options) {
+  return std::max(options.baseline_m, std::min(neighbour_m, options.max_arm_m));
 }
 
 double wrap(double at, double total) {
@@ -82,8 +72,8 @@ std::vector<double> vertex_radii_m(const std::vector<PlanePoint>& line,
     }
     const std::size_t prev = first ? n - 2 : i - 1;
     const std::size_t next = i + 1;
-    const double back_m = std::max(options.baseline_m, first ? total - s[prev] : s[i] - s[prev]);
-    const double ahead_m = std::max(options.baseline_m, s[next] - s[i]);
+    const double back_m = arm_m(first ? total - s[prev] : s[i] - s[prev], options);
+    const double ahead_m = arm_m(s[next] - s[i], options);
     double before_at = s[i] - back_m, after_at = s[i] + ahead_m;
     if (ring) {
       before_at = wrap(before_at, total);
@@ -97,6 +87,27 @@ std::vector<double> vertex_radii_m(const std::vector<PlanePoint>& line,
                               options.straight_radius_m);
   }
   return radii;
+}
+
+RadiusProfile radius_profile(const std::vector<PlanePoint>& line, const CurvatureOptions& options,
+                             double max_spacing_m) {
+  RadiusProfile out;
+  if (line.empty()) return out;
+  const std::vector<double> vertex_radii = vertex_radii_m(line, options);
+  out.position_m.push_back(0.0);
+  out.radius_m.push_back(vertex_radii[0]);
+  for (std::size_t i = 1; i < line.size(); ++i) {
+    const double start_m = out.position_m.back();
+    const double length_m = std::hypot(line[i].x - line[i - 1].x, line[i].y - line[i - 1].y);
+    const auto parts = static_cast<int>(std::ceil(length_m / max_spacing_m - 1e-9));
+    for (int k = 1; k < parts; ++k) {
+      out.position_m.push_back(start_m + length_m * k / parts);
+      out.radius_m.push_back(options.straight_radius_m);
+    }
+    out.position_m.push_back(start_m + length_m);
+    out.radius_m.push_back(vertex_radii[i]);
+  }
+  return out;
 }
 
 }  // namespace roadcross::preprocess

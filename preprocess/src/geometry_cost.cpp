@@ -29,6 +29,8 @@ void GeometryParameters::describe(std::vector<ParameterSpec>& out) {
                  "largest spacing of curvature points, metres (thesis 20)"});
   out.push_back({s, "curvature_baseline_m", &curvature_baseline_m, 0.5, 200, false,
                  "shortest arm of the curvature triangle, metres"});
+  out.push_back({s, "curvature_max_arm_m", &curvature_max_arm_m, 1, 1000, false,
+                 "longest arm of the curvature triangle, metres"});
   out.push_back({s, "straight_radius_m", &straight_radius_m, 100, 1e6, false,
                  "radius of a straight line, metres (thesis 10000)"});
   out.push_back({s, "level4_radius_m", &level4_radius_m, 0, 1e5, false,
@@ -152,14 +154,14 @@ double radius_near(const std::vector<double>& positions, const std::vector<doubl
 }
 
 void assign_radii(RoadGraph& graph, const Stroke& stroke, const GeometryParameters& p) {
-  const std::vector<PlanePoint> line = resample(stroke.points, p.resample_spacing_m);
-  const std::vector<double> radii =
-      vertex_radii_m(line, {p.curvature_baseline_m, p.straight_radius_m, stroke.closed});
-  std::vector<double> positions(line.size(), 0.0);
-  for (std::size_t i = 1; i < line.size(); ++i) {
-    positions[i] =
-        positions[i - 1] + std::hypot(line[i].x - line[i - 1].x, line[i].y - line[i - 1].y);
-  }
+  // The OSM vertices carry the curvature; the points inserted every <= resample_spacing_m are
+  // straight and only keep a bend's radius from spreading along a long edge.
+  const RadiusProfile profile = radius_profile(
+      stroke.points,
+      {p.curvature_baseline_m, p.straight_radius_m, stroke.closed, p.curvature_max_arm_m},
+      p.resample_spacing_m);
+  const std::vector<double>& positions = profile.position_m;
+  const std::vector<double>& radii = profile.radius_m;
   for (const StrokeSegment& ss : stroke.segments) {
     // Smallest radius of the curvature points on the segment and of those nearest its ends.
     double radius = std::min(radius_near(positions, radii, ss.start_m),

@@ -110,12 +110,23 @@ TEST(Circumradius, KnownTriangles) {
   EXPECT_EQ(rp::circumradius_m({0, 0}, {500, 0.001}, {1000, 0}, 10000), 10000);
 }
 
-TEST(Resample, InsertsPointsOnlyOnLongEdges) {
-  const auto out = rp::resample({{0, 0}, {50, 0}, {55, 0}}, 20.0);
-  // 50 m edge -> 3 parts (16.67 m), 5 m edge untouched.
-  ASSERT_EQ(out.size(), 5u);
-  EXPECT_NEAR(out[1].x, 50.0 / 3, 1e-12);
-  EXPECT_NEAR(out[3].x, 50.0, 1e-12);
+TEST(RadiusProfile, VerticesCarryTheBendInsertedPointsAreStraight) {
+  // A 50 m edge east, then 7.07 m north-east (a 45 degree turn at (50, 0)).
+  const rp::RadiusProfile out = rp::radius_profile({{0, 0}, {50, 0}, {55, 5}}, {}, 20.0);
+  // 50 m edge -> 3 parts of 16.67 m; the 7.07 m edge is not split.
+  ASSERT_EQ(out.position_m.size(), 5u);
+  EXPECT_NEAR(out.position_m[1], 50.0 / 3, 1e-12);
+  EXPECT_NEAR(out.position_m[3], 50.0, 1e-12);
+  EXPECT_NEAR(out.position_m[4], 50.0 + std::sqrt(50.0), 1e-12);
+  // Open ends and inserted points: straight.
+  EXPECT_EQ(out.radius_m[0], 10000);
+  EXPECT_EQ(out.radius_m[1], 10000);
+  EXPECT_EQ(out.radius_m[2], 10000);
+  EXPECT_EQ(out.radius_m[4], 10000);
+  // At (50, 0): back arm 50 m (at the cap) reaches (0, 0); the forward arm (10 m baseline) is
+  // cut at the line's end (55, 5). Angle 135 degrees at the vertex:
+  //   r = |AC| / (2 sin 135) = sqrt(55^2 + 5^2) / sqrt(2) = 39.051 m.
+  EXPECT_NEAR(out.radius_m[3], std::sqrt(55.0 * 55 + 25) / std::sqrt(2.0), 1e-9);
 }
 
 // ---- Curvature on drawn arcs: radius_m within 10 % whatever the vertex spacing. --------------
@@ -146,6 +157,60 @@ TEST_P(ArcRadius, SegmentsOnTheArcGetItsRadius) {
 INSTANTIATE_TEST_SUITE_P(RadiiAndSpacings, ArcRadius,
                          ::testing::Combine(::testing::Values(30.0, 50.0, 100.0, 200.0),
                                             ::testing::Values(2.0, 5.0, 15.0)));
+
+// A vertex's triangle reaches to its real neighbours, clamped to [baseline 10, max arm 50] m.
+// On a circle of radius R with vertices d apart, half the deflection at a vertex is
+// asin(d / 2R), and two equal arms L give the circumradius L / (2 sin(deflection / 2)).
+
+TEST(Curvature, GentleCurveDrawnWithSparseVerticesIsNotASharpBend) {
+  // R = 250 m, d = 40 m: arms 40 m, r = 40 / (2 * 40/500) = 250 exactly. (Resampling first and
+  // using the 20 m neighbours read 20 / 0.16 = 125 m.) d = 60 m: arms capped at 50 m,
+  // r = 50 / (2 * 60/500) = 208.33 m: level 1, no SHARP_BEND (resampled: 20 / 0.24 = 83 m).
+  for (const auto& [spacing, expected] : {std::pair{40.0, 250.0}, std::pair{60.0, 208.333}}) {
+    // Vertices on the circle with chords of exactly `spacing`: 2 asin(d / 2R) apart.
+    const double step_rad = 2 * std::asin(spacing / 500);
+    std::vector<PlanePoint> line;
+    for (int i = 0; i <= 8; ++i)
+      line.push_back({250 * std::cos(i * step_rad), 250 * std::sin(i * step_rad)});
+    GraphBuilder b;
+    b.add_piece(1, 2, line);
+    rp::compute_geometry_costs(b.graph, {});
+    int at_vertices = 0;
+    for (const rp::Segment& s : b.graph.segments) {
+      // Samples between vertices are on a straight edge; only a vertex's neighbourhood bends.
+      if (*s.radius_m < 10000) {
+        EXPECT_NEAR(*s.radius_m, expected, 0.01 * expected) << spacing;
+        ++at_vertices;
+      }
+      EXPECT_LE(*s.curvature_level, 1) << spacing;
+      EXPECT_TRUE(s.reasons.empty()) << spacing;
+    }
+    EXPECT_GE(at_vertices, static_cast<int>(line.size()) - 2) << spacing;
+  }
+}
+
+TEST(Curvature, SingleVertexCornerBetweenLongEdgesIsACorner) {
+  // 200 m edges meeting at one vertex: the arms are capped at 50 m, so a 90 degree corner reads
+  // 50 / (2 sin 45) = 35.36 m (level 4, SHARP_BEND) and a 30 degree kink 50 / (2 sin 15) =
+  // 96.59 m (level 2), not the 141 m / 386 m of the circle through the far vertices.
+  GraphBuilder b;
+  b.add_piece(1, 2, {{-200, 0}, {0, 0}, {0, 200}});
+  const double t = 30 * kPi / 180;
+  b.add_piece(3, 4, {{-200, 1000}, {0, 1000}, {200 * std::cos(t), 1000 + 200 * std::sin(t)}});
+  rp::compute_geometry_costs(b.graph, {});
+  const auto min_radius = [&](std::size_t piece) {
+    double r = 1e9;
+    for (const rp::Segment& s : b.graph.segments) {
+      if (s.piece_index == piece) r = std::min(r, *s.radius_m);
+    }
+    return r;
+  };
+  EXPECT_NEAR(min_radius(0), 50 / (2 * std::sin(kPi / 4)), 1e-6);
+  EXPECT_NEAR(min_radius(1), 50 / (2 * std::sin(kPi / 12)), 1e-6);
+  const rp::Segment& at_corner = b.graph.segments[19];  // ends at the corner vertex (200 m)
+  EXPECT_EQ(*at_corner.curvature_level, 4);
+  EXPECT_EQ(at_corner.reasons, std::vector<std::string>{"SHARP_BEND"});
+}
 
 TEST(Curvature, StraightRoadIsStraightLevelZeroCostZero) {
   GraphBuilder b;

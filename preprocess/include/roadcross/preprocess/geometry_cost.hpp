@@ -22,8 +22,10 @@ struct GeometryParameters {
   double near_junction_m = 15.0;
   /// Points are inserted so that no two are further apart, metres (thesis: 20 m).
   double resample_spacing_m = 20.0;
-  /// Shortest arm of the triangle whose circumradius is the radius at a vertex, metres.
+  /// Shortest and longest arm of the triangle whose circumradius is the radius at a vertex,
+  /// metres (the arms reach to the neighbouring OSM vertices, within these limits).
   double curvature_baseline_m = 10.0;
+  double curvature_max_arm_m = 50.0;
   /// Radius given to straight (collinear) stretches, metres (thesis: 10 000).
   double straight_radius_m = 10000.0;
   /// Radius limits of curvature levels 4, 3, 2, 1 (level 5 is a junction end), metres.
