@@ -2,11 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <queue>
+#include <string>
 #include <unordered_map>
+#include <utility>
 
 #include "roadcross/preprocess/curvature.hpp"
+#include "roadcross/preprocess/errors.hpp"
+#include "roadcross/preprocess/parameters.hpp"
 #include "roadcross/preprocess/strokes.hpp"
 
 namespace roadcross::preprocess {
@@ -26,11 +31,11 @@ void GeometryParameters::describe(std::vector<ParameterSpec>& out) {
   out.push_back({s, "near_junction_m", &near_junction_m, 0, 1000, false,
                  "NEAR_JUNCTION when the junction along the road is closer, metres"});
   out.push_back({s, "resample_spacing_m", &resample_spacing_m, 1, 1000, false,
-                 "largest spacing of curvature points, metres (thesis 20)"});
+                 "largest spacing of curvature samples along the road, metres (thesis 20)"});
   out.push_back({s, "curvature_baseline_m", &curvature_baseline_m, 0.5, 200, false,
                  "shortest arm of the curvature triangle, metres"});
   out.push_back({s, "curvature_max_arm_m", &curvature_max_arm_m, 1, 1000, false,
-                 "longest arm of the curvature triangle, metres"});
+                 "longest arm of the curvature triangle, metres (sparse vertices)"});
   out.push_back({s, "straight_radius_m", &straight_radius_m, 100, 1e6, false,
                  "radius of a straight line, metres (thesis 10000)"});
   out.push_back({s, "level4_radius_m", &level4_radius_m, 0, 1e5, false,
@@ -52,6 +57,21 @@ void GeometryParameters::describe(std::vector<ParameterSpec>& out) {
                  "the segment itself counts this many times in its window"});
   out.push_back({s, "sharp_bend_radius_m", &sharp_bend_radius_m, 0, 1e5, false,
                  "SHARP_BEND below this radius, metres"});
+}
+
+void GeometryParameters::validate_relations() const {
+  // Levels are tested from 4 down to 1, so a limit below the one before it empties its level.
+  const std::pair<const char*, double> limits[] = {{"level4_radius_m", level4_radius_m},
+                                                   {"level3_radius_m", level3_radius_m},
+                                                   {"level2_radius_m", level2_radius_m},
+                                                   {"level1_radius_m", level1_radius_m}};
+  for (std::size_t i = 1; i < std::size(limits); ++i) {
+    if (limits[i].second < limits[i - 1].second) {
+      throw ParameterError(std::string("geometry.") + limits[i].first + " (" +
+                           format_number(limits[i].second) + ") must not be below geometry." +
+                           limits[i - 1].first + " (" + format_number(limits[i - 1].second) + ")");
+    }
+  }
 }
 
 int class_cost(std::string_view highway, const GeometryParameters& p) noexcept {

@@ -49,6 +49,7 @@ void Parameters::validate() const {
       throw ParameterError(spec.key() + " must be a whole number, got " + format_number(v));
     }
   }
+  geometry.validate_relations();
 }
 
 std::vector<std::pair<std::string, std::string>> Parameters::as_metadata() const {

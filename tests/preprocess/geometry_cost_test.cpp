@@ -486,6 +486,17 @@ TEST(Parameters, ValidationNamesTheParameter) {
   rp::Parameters q;
   q.geometry.class_cost_primary = 4.5;
   EXPECT_THROW(q.validate(), rp::ParameterError);  // must be whole
+  // Level radii must not increase from level 4 to level 1 (each in range on its own).
+  rp::Parameters levels;
+  levels.geometry.level3_radius_m = 30;  // below level 4's 40 m: level 3 could never occur
+  try {
+    levels.validate();
+    FAIL() << "expected ParameterError";
+  } catch (const rp::ParameterError& e) {
+    EXPECT_NE(std::string(e.what()).find("geometry.level3_radius_m"), std::string::npos);
+  }
+  levels.geometry.level3_radius_m = 40;  // equal: level 3 empty on purpose, allowed
+  EXPECT_NO_THROW(levels.validate());
   rp::Parameters ok;
   EXPECT_NO_THROW(ok.validate());
   bool recorded = false;

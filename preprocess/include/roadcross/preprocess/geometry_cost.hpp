@@ -20,7 +20,8 @@ struct GeometryParameters {
   double class_cost_minor = 2, class_cost_unclassified = 1;
   /// A segment whose midpoint is closer than this to a junction along the road, metres.
   double near_junction_m = 15.0;
-  /// Points are inserted so that no two are further apart, metres (thesis: 20 m).
+  /// Curvature samples: the OSM vertices plus straight points inserted so that no two samples
+  /// are further apart, metres (thesis: 20 m).
   double resample_spacing_m = 20.0;
   /// Shortest and longest arm of the triangle whose circumradius is the radius at a vertex,
   /// metres (the arms reach to the neighbouring OSM vertices, within these limits).
@@ -39,6 +40,9 @@ struct GeometryParameters {
   double sharp_bend_radius_m = 90.0;
 
   void describe(std::vector<ParameterSpec>& out);
+  /// Checks what single ranges cannot: the level radii do not increase from level 4 to level 1.
+  /// Throws ParameterError naming the parameter.
+  void validate_relations() const;
 };
 
 /// Class cost of a highway=* value (motorway and trunk get the primary cost; they are never
