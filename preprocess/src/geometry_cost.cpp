@@ -11,7 +11,6 @@
 
 #include "roadcross/preprocess/curvature.hpp"
 #include "roadcross/preprocess/errors.hpp"
-#include "roadcross/preprocess/parameters.hpp"
 #include "roadcross/preprocess/strokes.hpp"
 
 namespace roadcross::preprocess {

@@ -17,4 +17,7 @@ struct ParameterSpec {
   std::string key() const { return section + "." + name; }
 };
 
+/// Formats a double in its shortest round-trip form ("10", "0.75", "1e-05").
+std::string format_number(double value);
+
 }  // namespace roadcross::preprocess

@@ -47,7 +47,5 @@ struct Parameters {
   std::vector<std::pair<std::string, std::string>> as_metadata() const;
 };
 
-/// Formats a double in its shortest round-trip form ("10", "0.75", "1e-05").
-std::string format_number(double value);
 
 }  // namespace roadcross::preprocess
