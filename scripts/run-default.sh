@@ -17,5 +17,11 @@ echo
 echo "== roadcross info out/prague.gpkg"
 ./build/release/cli/roadcross info out/prague.gpkg
 echo
-echo "== A robot 5 m north of Resslova street, west of Karlovo namesti: which way to cross?"
+echo "== A robot 5 m north of Resslova street, west of Karlovo namesti: may it cross here?"
+./build/release/cli/roadcross assess --db out/prague.gpkg --lat 50.075769 --lon 14.416015
+echo
+echo "== And which way would it face to cross?"
 ./build/release/cli/roadcross heading --db out/prague.gpkg --lat 50.075769 --lon 14.416015
+echo
+echo "== A robot on quiet Apolinarska street, by a zebra crossing:"
+./build/release/cli/roadcross assess --db out/prague.gpkg --lat 50.071507 --lon 14.42651

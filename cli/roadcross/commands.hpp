@@ -53,4 +53,15 @@ class HeadingCommand : public Command {
   double max_distance_m_ = 1000.0;
 };
 
+/// roadcross assess: is this a suitable place to cross, every cost term, and why not.
+class AssessCommand : public Command {
+ public:
+  explicit AssessCommand(CLI::App& parent);
+  int run() override;
+
+ private:
+  QueryOptions query_;
+  AssessOptions options_;
+};
+
 }  // namespace roadcross::cli

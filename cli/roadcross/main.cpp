@@ -13,7 +13,8 @@ int main(int argc, char** argv) {
       "Examples:\n"
       "  roadcross info prague.gpkg\n"
       "  roadcross nearest --db prague.gpkg --lat 50.0755 --lon 14.4186\n"
-      "  roadcross heading --db prague.gpkg --utm 458803 5546712 --json\n",
+      "  roadcross heading --db prague.gpkg --utm 458803 5546712 --json\n"
+      "  roadcross assess --db prague.gpkg --lat 50.075769 --lon 14.416015\n",
       "roadcross"};
   app.set_version_flag("--version", std::string("roadcross ") + roadcross::kVersion);
   app.require_subcommand(1);
@@ -21,6 +22,7 @@ int main(int argc, char** argv) {
   commands.push_back(std::make_unique<roadcross::cli::InfoCommand>(app));
   commands.push_back(std::make_unique<roadcross::cli::NearestCommand>(app));
   commands.push_back(std::make_unique<roadcross::cli::HeadingCommand>(app));
+  commands.push_back(std::make_unique<roadcross::cli::AssessCommand>(app));
   CLI11_PARSE(app, argc, argv);
   for (const auto& command : commands) {
     if (command->app()->parsed()) return command->run();

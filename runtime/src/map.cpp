@@ -7,6 +7,7 @@
 #include <limits>
 #include <utility>
 
+#include "map_impl.hpp"
 #include "polyline.hpp"
 #include "roadcross/runtime.hpp"
 #include "roadcross/schema/gpkg_geometry.hpp"
@@ -53,32 +54,7 @@ bool parse_int(const std::string& text, int& out) {
   return ec == std::errc() && end == text.data() + text.size();
 }
 
-/// The segments table's geometry and the rows the queries read. One instance per Map.
-struct Queries {
-  sqlite::Statement candidates;
-  sqlite::Statement attributes;
-
-  explicit Queries(sqlite::Database& db)
-      : candidates(db.prepare("SELECT s.fid, s.geom FROM " + std::string(schema::kSegmentsRtree) +
-                              " r JOIN " + std::string(schema::kSegmentsTable) +
-                              " s ON s.fid = r.id WHERE r.maxx >= ?1 AND r.minx <= ?2 AND "
-                              "r.maxy >= ?3 AND r.miny <= ?4")),
-        attributes(db.prepare("SELECT osm_way_id, highway, name, length_m FROM " +
-                              std::string(schema::kSegmentsTable) + " WHERE fid = ?1")) {}
-};
-
 }  // namespace
-
-struct Map::Impl {
-  sqlite::Database db;
-  MapInfo info;
-  Queries queries;
-  std::vector<schema::PlanePoint> scratch;  // reused geometry buffer: no allocation per query
-  std::vector<schema::PlanePoint> best_geometry;
-
-  Impl(sqlite::Database&& database, MapInfo&& map_info)
-      : db(std::move(database)), info(std::move(map_info)), queries(db) {}
-};
 
 Map::Map(std::unique_ptr<Impl> impl) noexcept : impl_(std::move(impl)) {}
 Map::Map(Map&&) noexcept = default;

@@ -111,6 +111,38 @@ struct RoadHeading {
   bool on_centreline = false;
 };
 
+/// Per-call overrides of the DB's suitability thresholds (unset = the DB's value, recorded at
+/// build time as param.suitability.*, or DESIGN.md's default for older DBs).
+struct AssessOptions {
+  std::optional<double> valid_distance_m;  ///< a position is valid within this of a centreline
+  std::optional<double> threshold;         ///< suitable when score + context_score >= this
+  double max_distance_m = 1000.0;          ///< how far to look for the nearest road, metres
+};
+
+/// Is this a place to cross, and why not. Cost terms are absent (nullopt) where the DB has none
+/// (e.g. no elevation data was given to the build).
+struct Assessment {
+  NearestRoad road;
+  bool valid = false;     ///< within valid_distance_m of the road centreline
+  bool suitable = false;  ///< valid, score + context_score >= threshold, and not forbidden
+  double valid_distance_m = 10.0;
+  double threshold = 20.0;
+  std::optional<int> class_cost, curvature_level, curvature_cost, elevation_cost;
+  std::optional<double> junction_distance_m, radius_m, crossing_distance_m;
+  std::optional<double> maxspeed_kmh, width_m;
+  std::optional<int> lanes;
+  std::optional<std::string> landform;
+  std::optional<int> rank, score, context_score;
+  bool tunnel = false;
+  std::string override_note;  ///< the operator's note when an override applies
+  /// Reason codes: the segment's (NEAR_JUNCTION, SHARP_BEND, BUSY_ROAD, NOT_CROSSABLE_CLASS,
+  /// TUNNEL, CREST_OR_DIP, ...) plus TOO_FAR_FROM_ROAD, NO_ELEVATION, LOW_SCORE, OVERRIDE.
+  std::vector<std::string> reasons;
+};
+
+/// A sentence for a reason code ("the road bends sharply here"), for people.
+const char* describe_reason(const std::string& code) noexcept;
+
 class Map {
  public:
   /// Opens a roadcross DB read-only and checks that it is a roadcross GeoPackage of a schema
@@ -131,6 +163,9 @@ class Map {
   /// The nearest road segment, searching outwards up to `max_distance_m` (metres, > 0).
   Result<NearestRoad> nearest(const Position& position,
                               double max_distance_m = 1000.0) noexcept;
+
+  /// Whether the position is a suitable place to cross, with every cost term and the reasons.
+  Result<Assessment> assess(const Position& position, const AssessOptions& options = {}) noexcept;
 
   /// The road's direction at the nearest point and the crossing heading.
   Result<RoadHeading> road_heading(const Position& position,

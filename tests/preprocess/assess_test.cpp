@@ -1,0 +1,122 @@
+// Map::assess on hand-made maps with known answers. The quiet road: a 600 m straight residential
+// way in Czechia with no tags but the class, so every context input takes its documented default
+// (docs/cost-model.md, "Context score"): CZ urban speed 50 km/h -> 2 points, 2 lanes -> 4,
+// width 2 x 3.0 m = 6.0 m (<= 6.5) -> 1, residential (minor) -> 3: context 10. Its middle is
+// straight and far from any junction: curvature cost 0, class cost 2, no elevation ->
+// rank floor(15 * (0 + 5 * 2/5) / 75) = floor(0.4) = 0, score 15. 15 + 10 = 25 >= 20: suitable.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "osm_fixture.hpp"
+#include "roadcross/preprocess/build.hpp"
+#include "roadcross/runtime.hpp"
+
+namespace rp = roadcross::preprocess;
+namespace rt = roadcross::testing;
+using roadcross::Map;
+using roadcross::Position;
+
+namespace {
+
+class Assess : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    // Residential: 50.0 N, 14.40 .. 14.4083 E (about 600 m). Motorway 300 m north of it.
+    // A tunnel 300 m south.
+    const std::string osm = dir_.write(
+        "map.osm",
+        rt::osm_document(rt::osm_node(1, 50.0, 14.40) + rt::osm_node(2, 50.0, 14.4083) +
+                         rt::osm_node(3, 50.0027, 14.40) + rt::osm_node(4, 50.0027, 14.4083) +
+                         rt::osm_node(5, 49.9973, 14.40) + rt::osm_node(6, 49.9973, 14.4083) +
+                         rt::osm_way(10, "1 2", "highway=residential") +
+                         rt::osm_way(20, "3 4", "highway=motorway") +
+                         rt::osm_way(30, "5 6", "highway=residential;tunnel=yes")));
+    db_ = dir_.file("map.gpkg");
+    rp::BuildOptions options;
+    options.osm_path = osm;
+    options.output_path = db_;
+    rp::run_build(options);
+    auto map = Map::open(db_);
+    ASSERT_TRUE(map.ok()) << map.status.message;
+    map_.emplace(std::move(*map.value));
+  }
+
+  /// A point `north_m` north of the middle of the way at latitude `lat`.
+  Position beside(double lat, double north_m) {
+    const auto p = map_->to_utm(Position::wgs84(lat, 14.40415));
+    return Position::utm(p->easting_m, p->northing_m + north_m);
+  }
+
+  static bool has(const roadcross::Assessment& a, const std::string& code) {
+    return std::find(a.reasons.begin(), a.reasons.end(), code) != a.reasons.end();
+  }
+
+  rt::TempDir dir_;
+  std::string db_;
+  std::optional<Map> map_;
+};
+
+TEST_F(Assess, ThreeMetresOffAQuietStraightRoadIsSuitable) {
+  const auto a = map_->assess(beside(50.0, 3.0));
+  ASSERT_TRUE(a.ok()) << a.status.message;
+  EXPECT_TRUE(a->valid);
+  EXPECT_NEAR(a->road.distance_m, 3.0, 0.05);
+  EXPECT_EQ(a->road.osm_way_id, 10);
+  EXPECT_EQ(*a->rank, 0);
+  EXPECT_EQ(*a->score, 15);
+  EXPECT_EQ(*a->context_score, 10);
+  EXPECT_EQ(*a->class_cost, 2);
+  EXPECT_EQ(*a->curvature_cost, 0);
+  EXPECT_DOUBLE_EQ(a->threshold, 20.0);        // recorded by the build
+  EXPECT_DOUBLE_EQ(a->valid_distance_m, 10.0);
+  EXPECT_TRUE(a->suitable);
+  EXPECT_TRUE(has(*a, "NO_ELEVATION"));  // informative: no DEM was given
+  EXPECT_FALSE(has(*a, "LOW_SCORE"));
+}
+
+TEST_F(Assess, ThirtyMetresAwayIsNotValid) {
+  const auto a = map_->assess(beside(50.0, 30.0));
+  ASSERT_TRUE(a.ok());
+  EXPECT_FALSE(a->valid);
+  EXPECT_FALSE(a->suitable);
+  EXPECT_EQ(a->reasons.front(), "TOO_FAR_FROM_ROAD");
+  // The same place with a 40 m validity radius given per call is valid again.
+  roadcross::AssessOptions wide;
+  wide.valid_distance_m = 40.0;
+  const auto b = map_->assess(beside(50.0, 30.0), wide);
+  EXPECT_TRUE(b->valid);
+  EXPECT_TRUE(b->suitable);
+}
+
+TEST_F(Assess, ThresholdCanBeOverriddenPerCall) {
+  roadcross::AssessOptions strict;
+  strict.threshold = 26.0;  // 25 < 26
+  const auto a = map_->assess(beside(50.0, 3.0), strict);
+  EXPECT_FALSE(a->suitable);
+  EXPECT_TRUE(has(*a, "LOW_SCORE"));
+}
+
+TEST_F(Assess, MotorwayAndTunnelAreNeverSuitable) {
+  roadcross::AssessOptions anything;
+  anything.threshold = -1000.0;
+  const auto motorway = map_->assess(beside(50.0027, 3.0), anything);
+  ASSERT_TRUE(motorway.ok());
+  EXPECT_EQ(motorway->road.highway, "motorway");
+  EXPECT_TRUE(motorway->valid);
+  EXPECT_FALSE(motorway->suitable);
+  EXPECT_TRUE(has(*motorway, "NOT_CROSSABLE_CLASS"));
+  const auto tunnel = map_->assess(beside(49.9973, 3.0), anything);
+  EXPECT_TRUE(tunnel->tunnel);
+  EXPECT_FALSE(tunnel->suitable);
+  EXPECT_TRUE(has(*tunnel, "TUNNEL"));
+}
+
+TEST_F(Assess, ErrorsPassThrough) {
+  EXPECT_EQ(map_->assess(Position::wgs84(95.0, 14.4)).status.code, roadcross::StatusCode::invalid_argument);
+  roadcross::AssessOptions near_only;
+  near_only.max_distance_m = 5.0;
+  EXPECT_EQ(map_->assess(beside(50.0, 100.0), near_only).status.code, roadcross::StatusCode::not_found);
+}
+
+}  // namespace
