@@ -80,12 +80,13 @@ int AssessCommand::run() {
     return 0;
   }
   const std::string name = a.road.name.empty() ? "(unnamed)" : a.road.name;
-  std::printf("%s\n", a.suitable ? "SUITABLE place to cross" : (a.valid ? "NOT suitable here" : "NOT at a road"));
-  std::printf("road        %s (%s, OSM way %lld), %.2f m away\n", name.c_str(), a.road.highway.c_str(),
-              static_cast<long long>(a.road.osm_way_id), a.road.distance_m);
+  std::printf("%s\n", a.suitable ? "SUITABLE place to cross"
+                                 : (a.valid ? "NOT suitable here" : "NOT at a road"));
+  std::printf("road        %s (%s, OSM way %lld), %.2f m away\n", name.c_str(),
+              a.road.highway.c_str(), static_cast<long long>(a.road.osm_way_id), a.road.distance_m);
   std::printf("score       %s + context %s = %d (threshold %g)\n", int_or_dash(a.score).c_str(),
-              int_or_dash(a.context_score).c_str(), a.score.value_or(0) + a.context_score.value_or(0),
-              a.threshold);
+              int_or_dash(a.context_score).c_str(),
+              a.score.value_or(0) + a.context_score.value_or(0), a.threshold);
   std::printf("rank        %s of 14   class %s   curvature %s (level %s, radius %s m)\n",
               int_or_dash(a.rank).c_str(), int_or_dash(a.class_cost).c_str(),
               int_or_dash(a.curvature_cost).c_str(), int_or_dash(a.curvature_level).c_str(),
@@ -100,6 +101,62 @@ int AssessCommand::run() {
     std::printf("  %-20s %s\n", code.c_str(), describe_reason(code));
   }
   if (!a.override_note.empty()) std::printf("  operator note: %s\n", a.override_note.c_str());
+  return 0;
+}
+
+}  // namespace roadcross::cli
+
+namespace roadcross::cli {
+
+BetterCommand::BetterCommand(CLI::App& parent) {
+  app_ =
+      parent.add_subcommand("better", "better places to cross nearby, by walking along the road");
+  query_.add_to(*app_);
+  app_->add_option("--radius", options_.search_radius_m, "walking distance to search, metres")
+      ->capture_default_str();
+  app_->add_option("--max", options_.max_candidates, "at most this many places")
+      ->capture_default_str();
+  app_->add_option("--threshold", options_.assess.threshold,
+                   "suitable when score + context >= this (default: the DB's)");
+}
+
+int BetterCommand::run() {
+  std::optional<Map> map = open_map_or_report(query_.db_path);
+  if (!map) return 1;
+  const Result<BetterPlaces> result = map->better_place(query_.position(), options_);
+  if (!result.ok()) {
+    std::cerr << "roadcross: " << result.status.message << "\n";
+    return 1;
+  }
+  if (query_.json) {
+    nlohmann::ordered_json out;
+    out["candidates"] = nlohmann::ordered_json::array();
+    for (const Candidate& c : result->candidates) {
+      out["candidates"].push_back({{"point_utm_m", {c.point.easting_m, c.point.northing_m}},
+                                   {"walking_distance_m", c.walking_distance_m},
+                                   {"segment_id", c.segment_id},
+                                   {"suitable", c.suitable},
+                                   {"score_plus_context", c.score},
+                                   {"designated_crossing", c.designated_crossing},
+                                   {"crossing_heading_rad", c.crossing_heading_rad},
+                                   {"reasons", c.reasons}});
+    }
+    out["reason"] = result->reason;
+    std::cout << out.dump(2) << "\n";
+    return 0;
+  }
+  if (result->candidates.empty()) {
+    std::printf("%s\n", result->reason.c_str());
+    return 0;
+  }
+  std::printf("%-4s %9s %8s %-9s %-19s %s\n", "#", "walk (m)", "score", "crossing",
+              "go to (UTM E, N)", "cross yaw (rad)");
+  int rank = 1;
+  for (const Candidate& c : result->candidates) {
+    std::printf("%-4d %9.1f %8d %-9s %9.1f %9.1f %+8.3f\n", rank++, c.walking_distance_m, c.score,
+                c.designated_crossing ? "zebra" : "-", c.point.easting_m, c.point.northing_m,
+                c.crossing_heading_rad);
+  }
   return 0;
 }
 

@@ -64,4 +64,15 @@ class AssessCommand : public Command {
   AssessOptions options_;
 };
 
+/// roadcross better: better places to cross nearby, by walking along the road.
+class BetterCommand : public Command {
+ public:
+  explicit BetterCommand(CLI::App& parent);
+  int run() override;
+
+ private:
+  QueryOptions query_;
+  BetterPlaceOptions options_;
+};
+
 }  // namespace roadcross::cli

@@ -41,7 +41,8 @@ Thresholds thresholds_from(const MapInfo& info) {
 
 const char* describe_reason(const std::string& code) noexcept {
   if (code == "TOO_FAR_FROM_ROAD") return "too far from the road centreline to be at the kerb";
-  if (code == "NEAR_JUNCTION") return "close to a junction, where traffic turns in from several sides";
+  if (code == "NEAR_JUNCTION")
+    return "close to a junction, where traffic turns in from several sides";
   if (code == "SHARP_BEND") return "the road bends sharply here: approaching cars are seen late";
   if (code == "CREST_OR_DIP") return "a crest or dip hides approaching cars";
   if (code == "BUSY_ROAD") return "a fast, wide or busy road";
@@ -50,7 +51,8 @@ const char* describe_reason(const std::string& code) noexcept {
   if (code == "NO_ELEVATION") return "no elevation data here: crests and dips are unknown";
   if (code == "LOW_SCORE") return "score + context score is below the suitability threshold";
   if (code == "OVERRIDE") return "an operator override applies";
-  if (code == "LIMITED_VISIBILITY") return "the view along the road is shorter than a crossing needs";
+  if (code == "LIMITED_VISIBILITY")
+    return "the view along the road is shorter than a crossing needs";
   return "see docs/cost-model.md";
 }
 
@@ -95,7 +97,8 @@ Result<Assessment> Map::assess(const Position& position, const AssessOptions& op
     row.bind(1, road->segment_id);
     if (!row.step()) {
       row.reset();
-      return Result<Assessment>{Status{StatusCode::corrupt_database, "segment without a row"}, std::nullopt};
+      return Result<Assessment>{Status{StatusCode::corrupt_database, "segment without a row"},
+                                std::nullopt};
     }
     a.class_cost = optional_column<int>(row, 0);
     a.junction_distance_m = optional_column<double>(row, 1);
@@ -121,19 +124,21 @@ Result<Assessment> Map::assess(const Position& position, const AssessOptions& op
     a.road = std::move(*road);
     a.valid = a.road.distance_m <= a.valid_distance_m;
     if (!a.valid) a.reasons.insert(a.reasons.begin(), "TOO_FAR_FROM_ROAD");
-    if (!a.elevation_cost && !has(a.reasons, "NO_ELEVATION")) a.reasons.emplace_back("NO_ELEVATION");
+    if (!a.elevation_cost && !has(a.reasons, "NO_ELEVATION"))
+      a.reasons.emplace_back("NO_ELEVATION");
     const int total = a.score.value_or(0) + a.context_score.value_or(0);
     const bool forbidden = has(a.reasons, "NOT_CROSSABLE_CLASS") || a.tunnel || no_crossing;
     const bool good_enough = a.score.has_value() && total >= a.threshold;
     if (!good_enough && !force_suitable) a.reasons.emplace_back("LOW_SCORE");
-    if ((no_crossing || force_suitable) && !has(a.reasons, "OVERRIDE")) a.reasons.emplace_back("OVERRIDE");
+    if ((no_crossing || force_suitable) && !has(a.reasons, "OVERRIDE"))
+      a.reasons.emplace_back("OVERRIDE");
     // An operator's force_suitable overrides the score, never the class, a tunnel or validity.
     a.suitable = a.valid && !forbidden && (good_enough || force_suitable);
     return Result<Assessment>{Status{}, std::move(a)};
   } catch (const std::exception& e) {
     impl_->queries.cost_terms.reset();
-    return Result<Assessment>{Status{StatusCode::corrupt_database, impl_->info.path + ": " + e.what()},
-                              std::nullopt};
+    return Result<Assessment>{
+        Status{StatusCode::corrupt_database, impl_->info.path + ": " + e.what()}, std::nullopt};
   }
 }
 

@@ -196,7 +196,7 @@ Result<PlanePoint> Map::to_utm(const Position& position) const noexcept {
 
 namespace {
 
-struct Candidate {
+struct BestMatch {
   std::int64_t segment_id = -1;
   detail::PolylineProjection projection;
 };
@@ -212,7 +212,7 @@ Result<NearestRoad> Map::nearest(const Position& position, double max_distance_m
   const schema::PlanePoint p{query->easting_m, query->northing_m};
   try {
     Impl& impl = *impl_;
-    Candidate best;
+    BestMatch best;
     best.projection.distance_m = std::numeric_limits<double>::infinity();
     // Grow the search box until the best candidate is inside the searched radius: then no
     // segment outside the box can be nearer, since its bounding box would intersect it.

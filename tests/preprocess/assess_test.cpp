@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "osm_fixture.hpp"
 #include "roadcross/preprocess/build.hpp"
@@ -68,7 +69,7 @@ TEST_F(Assess, ThreeMetresOffAQuietStraightRoadIsSuitable) {
   EXPECT_EQ(*a->context_score, 10);
   EXPECT_EQ(*a->class_cost, 2);
   EXPECT_EQ(*a->curvature_cost, 0);
-  EXPECT_DOUBLE_EQ(a->threshold, 20.0);        // recorded by the build
+  EXPECT_DOUBLE_EQ(a->threshold, 20.0);  // recorded by the build
   EXPECT_DOUBLE_EQ(a->valid_distance_m, 10.0);
   EXPECT_TRUE(a->suitable);
   EXPECT_TRUE(has(*a, "NO_ELEVATION"));  // informative: no DEM was given
@@ -113,10 +114,95 @@ TEST_F(Assess, MotorwayAndTunnelAreNeverSuitable) {
 }
 
 TEST_F(Assess, ErrorsPassThrough) {
-  EXPECT_EQ(map_->assess(Position::wgs84(95.0, 14.4)).status.code, roadcross::StatusCode::invalid_argument);
+  EXPECT_EQ(map_->assess(Position::wgs84(95.0, 14.4)).status.code,
+            roadcross::StatusCode::invalid_argument);
   roadcross::AssessOptions near_only;
   near_only.max_distance_m = 5.0;
-  EXPECT_EQ(map_->assess(beside(50.0, 100.0), near_only).status.code, roadcross::StatusCode::not_found);
+  EXPECT_EQ(map_->assess(beside(50.0, 100.0), near_only).status.code,
+            roadcross::StatusCode::not_found);
+}
+
+}  // namespace
+
+namespace {
+
+// A T junction: main residential road along 50.0 N from 14.40 to 14.4166 E (~1.2 km), a side
+// road going north from its middle node 2 (14.4083 E). Node 2 has degree 3.
+class BetterPlace : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const std::string osm = dir_.write(
+        "t.osm",
+        rt::osm_document(rt::osm_node(1, 50.0, 14.40) + rt::osm_node(2, 50.0, 14.4083) +
+                         rt::osm_node(3, 50.0, 14.4166) + rt::osm_node(4, 50.003, 14.4083) +
+                         rt::osm_way(10, "1 2 3", "highway=residential") +
+                         rt::osm_way(20, "2 4", "highway=residential")));
+    rp::BuildOptions options;
+    options.osm_path = osm;
+    options.output_path = dir_.file("t.gpkg");
+    rp::run_build(options);
+    auto map = Map::open(dir_.file("t.gpkg"));
+    ASSERT_TRUE(map.ok());
+    map_.emplace(std::move(*map.value));
+    junction_ = *map_->to_utm(Position::wgs84(50.0, 14.4083));
+  }
+  rt::TempDir dir_;
+  std::optional<Map> map_;
+  roadcross::PlanePoint junction_;
+};
+
+TEST_F(BetterPlace, NextToAJunctionTheBetterPlaceIsAwayFromItOnTheSameSide) {
+  // 8 m west of the junction, 3 m south of the main road (the side without the side road).
+  const Position robot = Position::utm(junction_.easting_m - 8.0, junction_.northing_m - 3.0);
+  const auto here = map_->assess(robot);
+  ASSERT_TRUE(here.ok());
+  EXPECT_TRUE(std::find(here->reasons.begin(), here->reasons.end(), "NEAR_JUNCTION") !=
+              here->reasons.end());
+  const auto places = map_->better_place(robot);
+  ASSERT_TRUE(places.ok()) << places.status.message;
+  ASSERT_FALSE(places->candidates.empty()) << places->reason;
+  const roadcross::Candidate& best = places->candidates.front();
+  EXPECT_TRUE(best.suitable);
+  // No candidate is within the 15 m junction zone, and every one is within the radius.
+  for (const auto& c : places->candidates) {
+    EXPECT_GE(std::hypot(c.point.easting_m - junction_.easting_m,
+                         c.point.northing_m - junction_.northing_m),
+              15.0);
+    EXPECT_LE(c.walking_distance_m, 100.0);
+  }
+  // Same side (south of the main road, at the robot's 3 m offset): the road runs along 50.0 N,
+  // so its northing there is within ~1 m of the junction's (grid convergence over < 100 m).
+  // No candidate is on the side road to the north: reaching it would mean crossing.
+  for (const auto& c : places->candidates) {
+    EXPECT_LT(c.point.northing_m, junction_.northing_m - 2.0);
+    EXPECT_GT(c.point.northing_m, junction_.northing_m - 4.0);
+    EXPECT_NEAR(c.crossing_heading_rad, roadcross::geo::kPi / 2, 0.05);  // cross northwards
+  }
+  EXPECT_GE(best.walking_distance_m, 15.0);
+  // Ranked: suitable first, then score, then walking distance.
+  for (std::size_t i = 1; i < places->candidates.size(); ++i) {
+    const auto& a = places->candidates[i - 1];
+    const auto& b = places->candidates[i];
+    EXPECT_TRUE(a.suitable >= b.suitable);
+    if (a.suitable == b.suitable && a.designated_crossing == b.designated_crossing) {
+      EXPECT_GE(a.score, b.score);
+    }
+  }
+}
+
+TEST_F(BetterPlace, NothingSuitableGivesAnEmptyListWithAReason) {
+  roadcross::BetterPlaceOptions impossible;
+  impossible.assess.threshold = 1000.0;
+  const auto places = map_->better_place(
+      Position::utm(junction_.easting_m - 50.0, junction_.northing_m - 3.0), impossible);
+  ASSERT_TRUE(places.ok());
+  EXPECT_TRUE(places->candidates.empty());
+  EXPECT_NE(places->reason.find("no suitable place"), std::string::npos);
+  roadcross::BetterPlaceOptions bad;
+  bad.search_radius_m = 0.0;
+  EXPECT_EQ(
+      map_->better_place(Position::utm(junction_.easting_m, junction_.northing_m), bad).status.code,
+      roadcross::StatusCode::invalid_argument);
 }
 
 }  // namespace

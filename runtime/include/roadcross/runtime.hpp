@@ -140,6 +140,29 @@ struct Assessment {
   std::vector<std::string> reasons;
 };
 
+struct BetterPlaceOptions {
+  double search_radius_m = 100.0;  ///< walking distance along the road, metres, > 0
+  std::size_t max_candidates = 5;  ///< at most this many, best first
+  AssessOptions assess;            ///< thresholds applied to every candidate
+};
+
+/// A place to cross instead, reached by walking along the road on the robot's side.
+struct Candidate {
+  PlanePoint point;  ///< where to stand: same side, same offset from the centreline
+  double walking_distance_m = 0.0;
+  std::int64_t segment_id = 0;
+  bool suitable = false;
+  int score = 0;                      ///< score + context_score
+  bool designated_crossing = false;   ///< a designated crossing within 5 m of the place
+  double crossing_heading_rad = 0.0;  ///< ENU yaw (UTM grid) across the road from that side
+  std::vector<std::string> reasons;
+};
+
+struct BetterPlaces {
+  std::vector<Candidate> candidates;  ///< suitable first, then by score, then by distance
+  std::string reason;                 ///< why the list is empty, else empty
+};
+
 /// A sentence for a reason code ("the road bends sharply here"), for people.
 const char* describe_reason(const std::string& code) noexcept;
 
@@ -161,11 +184,17 @@ class Map {
   Result<PlanePoint> to_utm(const Position& position) const noexcept;
 
   /// The nearest road segment, searching outwards up to `max_distance_m` (metres, > 0).
-  Result<NearestRoad> nearest(const Position& position,
-                              double max_distance_m = 1000.0) noexcept;
+  Result<NearestRoad> nearest(const Position& position, double max_distance_m = 1000.0) noexcept;
 
   /// Whether the position is a suitable place to cross, with every cost term and the reasons.
   Result<Assessment> assess(const Position& position, const AssessOptions& options = {}) noexcept;
+
+  /// Up to max_candidates places within search_radius_m of walking along the road (through the
+  /// road graph, on the robot's side, never across), ranked: suitable first, then designated
+  /// crossings, then score + context, then walking distance. Segments near a junction are not
+  /// offered. An empty list comes with the reason.
+  Result<BetterPlaces> better_place(const Position& position,
+                                    const BetterPlaceOptions& options = {}) noexcept;
 
   /// The road's direction at the nearest point and the crossing heading.
   Result<RoadHeading> road_heading(const Position& position,

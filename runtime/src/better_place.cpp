@@ -1,0 +1,256 @@
+// Map::better_place: a Dijkstra walk along the road graph from the robot's position, over the
+// segments the R*Tree finds within the search radius, judging every segment reached.
+#include <algorithm>
+#include <cmath>
+#include <queue>
+#include <unordered_map>
+
+#include "map_impl.hpp"
+#include "polyline.hpp"
+
+namespace roadcross {
+namespace {
+
+struct LocalSegment {
+  std::int64_t id = 0, from = 0, to = 0;
+  double length_m = 0.0;
+  std::vector<schema::PlanePoint> points;
+  int score = 0, context = 0;
+  bool has_score = false;
+  std::string reasons;
+  bool tunnel = false, no_crossing = false, force_suitable = false;
+  std::optional<double> crossing_distance_m;
+};
+
+/// Every segment whose box meets the square of half-size `radius_m` around `p`.
+std::vector<LocalSegment> load_neighbourhood(sqlite::Database& db, schema::PlanePoint p,
+                                             double radius_m) {
+  // Prepared per call: better_place is a planning query (ms), not the hot assess path.
+  sqlite::Statement query = db.prepare(
+      "SELECT s.fid, s.from_node_id, s.to_node_id, s.length_m, s.geom, s.score, s.context_score, "
+      "s.reasons, s.tunnel, s.override_no_crossing, s.override_force_suitable, "
+      "s.crossing_distance_m FROM " +
+      std::string(schema::kSegmentsRtree) + " r JOIN " + std::string(schema::kSegmentsTable) +
+      " s ON s.fid = r.id WHERE r.maxx >= ?1 AND r.minx <= ?2 AND r.maxy >= ?3 AND r.miny <= ?4");
+  query.bind(1, p.x - radius_m);
+  query.bind(2, p.x + radius_m);
+  query.bind(3, p.y - radius_m);
+  query.bind(4, p.y + radius_m);
+  std::vector<LocalSegment> out;
+  while (query.step()) {
+    LocalSegment s;
+    s.id = query.column_int64(0);
+    s.from = query.column_int64(1);
+    s.to = query.column_int64(2);
+    s.length_m = query.column_double(3);
+    if (!schema::decode_linestring(query.column_blob(4), s.points)) continue;
+    s.has_score = !query.column_is_null(5);
+    s.score = static_cast<int>(query.column_int64(5));
+    s.context = static_cast<int>(query.column_int64(6));
+    s.reasons = query.column_text(7);
+    s.tunnel = query.column_int64(8) != 0;
+    s.no_crossing = query.column_int64(9) != 0;
+    s.force_suitable = query.column_int64(10) != 0;
+    if (!query.column_is_null(11)) s.crossing_distance_m = query.column_double(11);
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+/// The point at `fraction` along a polyline and the direction there.
+std::pair<schema::PlanePoint, double> point_and_direction(
+    const std::vector<schema::PlanePoint>& pts, double fraction) {
+  double total = 0.0;
+  for (std::size_t i = 1; i < pts.size(); ++i)
+    total += std::hypot(pts[i].x - pts[i - 1].x, pts[i].y - pts[i - 1].y);
+  double target = fraction * total;
+  for (std::size_t i = 1; i < pts.size(); ++i) {
+    const double dx = pts[i].x - pts[i - 1].x, dy = pts[i].y - pts[i - 1].y,
+                 edge = std::hypot(dx, dy);
+    if (target <= edge || i + 1 == pts.size()) {
+      const double t = edge > 0.0 ? std::clamp(target / edge, 0.0, 1.0) : 0.0;
+      return {{pts[i - 1].x + t * dx, pts[i - 1].y + t * dy}, std::atan2(dy, dx)};
+    }
+    target -= edge;
+  }
+  return {pts.front(), 0.0};
+}
+
+/// Direction of walking out of segment `s` at its start (forward) or end (backward).
+double departure_yaw(const LocalSegment& s, bool forward) {
+  const auto& p = s.points;
+  if (forward) return std::atan2(p[1].y - p[0].y, p[1].x - p[0].x);
+  const std::size_t n = p.size();
+  return std::atan2(p[n - 2].y - p[n - 1].y, p[n - 2].x - p[n - 1].x);
+}
+
+/// Direction of walking when arriving at the far end of segment `s`.
+double arrival_yaw(const LocalSegment& s, bool forward) {
+  return geo::normalize_angle_rad(departure_yaw(s, !forward) + geo::kPi);
+}
+
+struct Reached {
+  double distance_m;  // walking distance to the segment's midpoint
+  bool forward;       // walked in the segment's own direction
+};
+
+}  // namespace
+
+Result<BetterPlaces> Map::better_place(const Position& position,
+                                       const BetterPlaceOptions& options) noexcept {
+  if (!(options.search_radius_m > 0.0)) {
+    return Result<BetterPlaces>{Status{StatusCode::invalid_argument, "search_radius_m must be > 0"},
+                                std::nullopt};
+  }
+  Result<Assessment> here = assess(position, options.assess);
+  if (!here.ok()) return Result<BetterPlaces>{here.status, std::nullopt};
+  try {
+    const schema::PlanePoint robot{here->road.query.easting_m, here->road.query.northing_m};
+    std::vector<LocalSegment> local =
+        load_neighbourhood(impl_->db, robot, options.search_radius_m + 20.0);
+    std::unordered_map<std::int64_t, std::vector<std::size_t>> at_node;
+    std::size_t start = local.size();
+    for (std::size_t i = 0; i < local.size(); ++i) {
+      at_node[local[i].from].push_back(i);
+      at_node[local[i].to].push_back(i);
+      if (local[i].id == here->road.segment_id) start = i;
+    }
+    if (start == local.size()) {
+      return Result<BetterPlaces>{Status{StatusCode::corrupt_database, "own segment not indexed"},
+                                  std::nullopt};
+    }
+    // The robot's side: left (+1) or right (-1) of its segment's direction, and its offset.
+    const detail::PolylineProjection on = detail::project_onto_polyline(local[start].points, robot);
+    const double yaw = detail::polyline_direction_rad(local[start].points, on);
+    const double cross =
+        std::cos(yaw) * (robot.y - on.closest.y) - std::sin(yaw) * (robot.x - on.closest.x);
+    const double side_of_start = cross >= 0.0 ? 1.0 : -1.0;
+    const double offset_m = std::max(here->road.distance_m, 1.0);
+    double along_m = 0.0;
+    for (std::size_t i = 0; i < on.edge_index; ++i) {
+      along_m += std::hypot(local[start].points[i + 1].x - local[start].points[i].x,
+                            local[start].points[i + 1].y - local[start].points[i].y);
+    }
+    along_m +=
+        on.edge_fraction *
+        std::hypot(local[start].points[on.edge_index + 1].x - local[start].points[on.edge_index].x,
+                   local[start].points[on.edge_index + 1].y - local[start].points[on.edge_index].y);
+
+    // Dijkstra over graph nodes; the side relative to the walking direction is kept.
+    using Entry = std::pair<double, std::int64_t>;
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+    std::unordered_map<std::int64_t, double> node_distance;
+    std::unordered_map<std::size_t, Reached> reached;
+    const double length = local[start].length_m;
+    reached[start] = {std::abs(along_m - 0.5 * length), true};
+    node_distance[local[start].from] = along_m;
+    node_distance[local[start].to] = length - along_m;
+    queue.push({along_m, local[start].from});
+    queue.push({length - along_m, local[start].to});
+    // Walking from the start towards its from-node is walking backwards: the robot's side
+    // relative to the walking direction flips. Track, per node, the side relative to walking.
+    std::unordered_map<std::int64_t, double> side_at_node{{local[start].from, -side_of_start},
+                                                          {local[start].to, side_of_start}};
+    std::unordered_map<std::size_t, double> side_of_segment{{start, side_of_start}};
+    // At a junction the walk goes on only along the straightest continuation: turning into a
+    // side road could mean crossing the road the robot is on, which is what it is looking for
+    // a place to do. Per node: the segment the walk arrived by and its direction there.
+    std::unordered_map<std::int64_t, std::pair<std::size_t, double>> arrived{
+        {local[start].from, {start, arrival_yaw(local[start], false)}},
+        {local[start].to, {start, arrival_yaw(local[start], true)}}};
+    while (!queue.empty()) {
+      const auto [d, node] = queue.top();
+      queue.pop();
+      if (d > node_distance[node] || d > options.search_radius_m) continue;
+      const auto [came_by, heading] = arrived[node];
+      std::vector<std::size_t> onward;
+      for (std::size_t i : at_node[node]) {
+        if (i != came_by) onward.push_back(i);
+      }
+      if (onward.size() > 1) {
+        const auto turn = [&](std::size_t i) {
+          return std::abs(
+              geo::angle_difference_rad(departure_yaw(local[i], local[i].from == node), heading));
+        };
+        const std::size_t straightest =
+            *std::min_element(onward.begin(), onward.end(),
+                              [&](std::size_t a, std::size_t b) { return turn(a) < turn(b); });
+        onward.assign(1, straightest);
+      }
+      for (std::size_t i : onward) {
+        if (i == start) continue;
+        const bool forward = local[i].from == node;
+        const double mid = d + 0.5 * local[i].length_m;
+        auto it = reached.find(i);
+        if (it == reached.end() || mid < it->second.distance_m) {
+          reached[i] = {mid, forward};
+          side_of_segment[i] = forward ? side_at_node[node] : -side_at_node[node];
+        }
+        const std::int64_t next = forward ? local[i].to : local[i].from;
+        const double next_d = d + local[i].length_m;
+        auto nd = node_distance.find(next);
+        if (nd == node_distance.end() || next_d < nd->second) {
+          node_distance[next] = next_d;
+          side_at_node[next] = side_at_node[node];
+          arrived[next] = {i, arrival_yaw(local[i], forward)};
+          queue.push({next_d, next});
+        }
+      }
+    }
+
+    BetterPlaces result;
+    const double threshold = options.assess.threshold.value_or(impl_->thresholds.threshold);
+    for (const auto& [i, r] : reached) {
+      if (r.distance_m > options.search_radius_m) continue;
+      const LocalSegment& s = local[i];
+      const bool forbidden =
+          s.tunnel || s.no_crossing || s.reasons.find("NOT_CROSSABLE_CLASS") != std::string::npos;
+      if (forbidden || s.reasons.find("NEAR_JUNCTION") != std::string::npos) continue;
+      Candidate c;
+      c.segment_id = s.id;
+      c.walking_distance_m = r.distance_m;
+      c.score = s.score + s.context;
+      c.suitable = s.has_score && (c.score >= threshold || s.force_suitable);
+      c.designated_crossing = s.crossing_distance_m && *s.crossing_distance_m <= 5.0;
+      const auto [mid, direction] = point_and_direction(s.points, 0.5);
+      const double side = side_of_segment[i];
+      c.point = {mid.x - side * offset_m * std::sin(direction),
+                 mid.y + side * offset_m * std::cos(direction)};
+      // From the left (+1) of the road's direction the crossing points to its right, and back.
+      c.crossing_heading_rad = geo::normalize_angle_rad(direction - side * geo::kPi / 2.0);
+      std::size_t start_code = 0;
+      while (start_code < s.reasons.size()) {
+        std::size_t end = s.reasons.find(',', start_code);
+        if (end == std::string::npos) end = s.reasons.size();
+        if (end > start_code) c.reasons.push_back(s.reasons.substr(start_code, end - start_code));
+        start_code = end + 1;
+      }
+      result.candidates.push_back(std::move(c));
+    }
+    std::sort(result.candidates.begin(), result.candidates.end(),
+              [](const Candidate& a, const Candidate& b) {
+                if (a.suitable != b.suitable) return a.suitable;
+                if (a.designated_crossing != b.designated_crossing) return a.designated_crossing;
+                if (a.score != b.score) return a.score > b.score;
+                if (a.walking_distance_m != b.walking_distance_m)
+                  return a.walking_distance_m < b.walking_distance_m;
+                return a.segment_id < b.segment_id;
+              });
+    if (result.candidates.size() > options.max_candidates)
+      result.candidates.resize(options.max_candidates);
+    if (result.candidates.empty() || !result.candidates.front().suitable) {
+      result.candidates.erase(std::remove_if(result.candidates.begin(), result.candidates.end(),
+                                             [](const Candidate& c) { return !c.suitable; }),
+                              result.candidates.end());
+      result.reason = "no suitable place within " +
+                      std::to_string(static_cast<int>(options.search_radius_m)) +
+                      " m of walking along the road";
+    }
+    return Result<BetterPlaces>{Status{}, std::move(result)};
+  } catch (const std::exception& e) {
+    return Result<BetterPlaces>{
+        Status{StatusCode::corrupt_database, impl_->info.path + ": " + e.what()}, std::nullopt};
+  }
+}
+
+}  // namespace roadcross
