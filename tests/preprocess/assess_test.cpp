@@ -206,3 +206,28 @@ TEST_F(BetterPlace, NothingSuitableGivesAnEmptyListWithAReason) {
 }
 
 }  // namespace
+
+#include "roadcross/monitor.hpp"
+
+namespace {
+
+TEST_F(Assess, PlanCrossingAimsAtTheFarSideAndMonitorFollowsIt) {
+  // 3 m south of the quiet road (width 6.0 m by default from 2 lanes x 3.0 m): the plan goes
+  // north, to 6.0 / 2 + 0.5 = 3.5 m beyond the centreline.
+  const auto plan = roadcross::plan_crossing(*map_, beside(50.0, -3.0));
+  ASSERT_TRUE(plan.ok()) << plan.status.message;
+  EXPECT_DOUBLE_EQ(plan->road_width_m, 6.0);
+  EXPECT_NEAR(plan->heading_rad, roadcross::geo::kPi / 2, 0.01);
+  EXPECT_NEAR(std::hypot(plan->target.easting_m - plan->start.easting_m,
+                         plan->target.northing_m - plan->start.northing_m),
+              3.0 + 3.5, 0.01);
+  const auto halfway = roadcross::monitor(
+      *plan, roadcross::Pose{{0.5 * (plan->start.easting_m + plan->target.easting_m),
+                              0.5 * (plan->start.northing_m + plan->target.northing_m)},
+                             plan->heading_rad});
+  ASSERT_TRUE(halfway.ok());
+  EXPECT_NEAR(halfway->progress, 0.5, 1e-9);
+  EXPECT_EQ(halfway->state, roadcross::CrossingState::on_track);
+}
+
+}  // namespace
