@@ -216,8 +216,8 @@ Result<NearestRoad> Map::nearest(const Position& position, double max_distance_m
     best.projection.distance_m = std::numeric_limits<double>::infinity();
     // Grow the search box until the best candidate is inside the searched radius: then no
     // segment outside the box can be nearer, since its bounding box would intersect it.
-    for (double radius_m = std::min(32.0, max_distance_m);;
-         radius_m = std::min(radius_m * 4.0, max_distance_m)) {
+    for (double radius_m = std::min(16.0, max_distance_m);;
+         radius_m = std::min(radius_m * 2.0, max_distance_m)) {
       sqlite::Statement& stmt = impl.queries.candidates;
       stmt.bind(1, p.x - radius_m);
       stmt.bind(2, p.x + radius_m);
