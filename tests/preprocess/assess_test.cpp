@@ -231,3 +231,42 @@ TEST_F(Assess, PlanCrossingAimsAtTheFarSideAndMonitorFollowsIt) {
 }
 
 }  // namespace
+
+#include <thread>
+
+namespace {
+
+TEST_F(Assess, ConcurrentMapsGiveTheSameAnswers) {
+  // One Map per thread (the documented model); four threads answer the same 200 queries as a
+  // single thread did, with no shared state between them.
+  std::vector<Position> queries;
+  for (int i = 0; i < 200; ++i) queries.push_back(beside(50.0, -40.0 + 0.4 * i));
+  std::vector<std::pair<bool, std::int64_t>> expected;
+  for (const Position& q : queries) {
+    const auto a = map_->assess(q);
+    expected.emplace_back(a.ok() && a->suitable, a.ok() ? a->road.segment_id : -1);
+  }
+  std::vector<int> mismatches(4, 0);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 4; ++t) {
+    threads.emplace_back([&, t] {
+      auto own = Map::open(db_);
+      for (int round = 0; round < 5; ++round) {
+        for (std::size_t i = 0; i < queries.size(); ++i) {
+          const auto a = own->assess(queries[i]);
+          const std::pair<bool, std::int64_t> got{a.ok() && a->suitable,
+                                                  a.ok() ? a->road.segment_id : -1};
+          if (got != expected[i]) ++mismatches[static_cast<std::size_t>(t)];
+        }
+      }
+    });
+  }
+  for (auto& thread : threads) thread.join();
+  for (int m : mismatches) EXPECT_EQ(m, 0);
+  // Both suitable and unsuitable answers were exercised.
+  EXPECT_TRUE(std::any_of(expected.begin(), expected.end(), [](const auto& e) { return e.first; }));
+  EXPECT_TRUE(
+      std::any_of(expected.begin(), expected.end(), [](const auto& e) { return !e.first; }));
+}
+
+}  // namespace
