@@ -3,46 +3,10 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "json_output.hpp"
 
 namespace roadcross::cli {
 namespace {
-
-template <typename T>
-nlohmann::ordered_json or_null(const std::optional<T>& value) {
-  return value ? nlohmann::ordered_json(*value) : nlohmann::ordered_json(nullptr);
-}
-
-nlohmann::ordered_json assessment_json(const Assessment& a) {
-  nlohmann::ordered_json out;
-  out["valid"] = a.valid;
-  out["suitable"] = a.suitable;
-  out["segment_id"] = a.road.segment_id;
-  out["osm_way_id"] = a.road.osm_way_id;
-  out["highway"] = a.road.highway;
-  out["name"] = a.road.name;
-  out["distance_m"] = a.road.distance_m;
-  out["closest_utm_m"] = {a.road.closest.easting_m, a.road.closest.northing_m};
-  out["score"] = or_null(a.score);
-  out["context_score"] = or_null(a.context_score);
-  out["threshold"] = a.threshold;
-  out["valid_distance_m"] = a.valid_distance_m;
-  out["rank"] = or_null(a.rank);
-  out["class_cost"] = or_null(a.class_cost);
-  out["curvature_cost"] = or_null(a.curvature_cost);
-  out["curvature_level"] = or_null(a.curvature_level);
-  out["radius_m"] = or_null(a.radius_m);
-  out["junction_distance_m"] = or_null(a.junction_distance_m);
-  out["elevation_cost"] = or_null(a.elevation_cost);
-  out["landform"] = or_null(a.landform);
-  out["maxspeed_kmh"] = or_null(a.maxspeed_kmh);
-  out["lanes"] = or_null(a.lanes);
-  out["width_m"] = or_null(a.width_m);
-  out["crossing_distance_m"] = or_null(a.crossing_distance_m);
-  out["tunnel"] = a.tunnel;
-  out["override_note"] = a.override_note;
-  out["reasons"] = a.reasons;
-  return out;
-}
 
 std::string number_or_dash(const std::optional<double>& value, const char* format) {
   if (!value) return "-";
@@ -129,19 +93,7 @@ int BetterCommand::run() {
     return 1;
   }
   if (query_.json) {
-    nlohmann::ordered_json out;
-    out["candidates"] = nlohmann::ordered_json::array();
-    for (const Candidate& c : result->candidates) {
-      out["candidates"].push_back({{"point_utm_m", {c.point.easting_m, c.point.northing_m}},
-                                   {"walking_distance_m", c.walking_distance_m},
-                                   {"segment_id", c.segment_id},
-                                   {"suitable", c.suitable},
-                                   {"score_plus_context", c.score},
-                                   {"designated_crossing", c.designated_crossing},
-                                   {"crossing_heading_rad", c.crossing_heading_rad},
-                                   {"reasons", c.reasons}});
-    }
-    out["reason"] = result->reason;
+    const nlohmann::ordered_json out = better_places_json(*result);
     std::cout << out.dump(2) << "\n";
     return 0;
   }

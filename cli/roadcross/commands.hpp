@@ -75,4 +75,14 @@ class BetterCommand : public Command {
   BetterPlaceOptions options_;
 };
 
+/// roadcross batch: one JSON request per line on stdin, one JSON answer per line on stdout.
+class BatchCommand : public Command {
+ public:
+  explicit BatchCommand(CLI::App& parent);
+  int run() override;
+
+ private:
+  std::string db_path_;
+};
+
 }  // namespace roadcross::cli

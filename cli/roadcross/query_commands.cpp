@@ -3,21 +3,10 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "json_output.hpp"
 
 namespace roadcross::cli {
 namespace {
-
-nlohmann::ordered_json road_json(const NearestRoad& road) {
-  nlohmann::ordered_json out;
-  out["segment_id"] = road.segment_id;
-  out["osm_way_id"] = road.osm_way_id;
-  out["highway"] = road.highway;
-  out["name"] = road.name;
-  out["distance_m"] = road.distance_m;
-  out["query_utm_m"] = {road.query.easting_m, road.query.northing_m};
-  out["closest_utm_m"] = {road.closest.easting_m, road.closest.northing_m};
-  return out;
-}
 
 std::string road_label(const NearestRoad& road) {
   const std::string name = road.name.empty() ? "(unnamed)" : road.name;
@@ -69,13 +58,7 @@ int HeadingCommand::run() {
   const Result<RoadHeading> heading = map->road_heading(query_.position(), max_distance_m_);
   if (!heading.ok()) return report_error(heading.status);
   if (query_.json) {
-    nlohmann::ordered_json out = road_json(heading->road);
-    out["road_heading_rad"] = heading->road_heading_rad;
-    out["road_bearing_deg"] = heading->road_bearing_deg;
-    out["crossing_heading_rad"] = heading->crossing_heading_rad;
-    out["crossing_bearing_deg"] = heading->crossing_bearing_deg;
-    out["convergence_rad"] = heading->convergence_rad;
-    out["on_centreline"] = heading->on_centreline;
+    const nlohmann::ordered_json out = heading_json(*heading);
     std::cout << out.dump(2) << "\n";
     return 0;
   }

@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# The query subcommands end to end on a hand-made map whose answers are derived in
+# tests/preprocess/assess_test.cpp (a quiet straight residential road at 50.0 N is suitable 3 m
+# off it), and the batch mode's line protocol.
+source "$(dirname "$0")/lib.sh"
+cat >"$WORK/map.osm" <<'OSM'
+<?xml version='1.0' encoding='UTF-8'?>
+<osm version="0.6">
+  <node id="1" version="1" lat="50.0" lon="14.40"/>
+  <node id="2" version="1" lat="50.0" lon="14.4083"/>
+  <way id="10" version="1"><nd ref="1"/><nd ref="2"/><tag k="highway" v="residential"/></way>
+</osm>
+OSM
+"$ROADCROSS_BUILD" --osm "$WORK/map.osm" -o "$WORK/map.gpkg" -q
+# 3 m north of the road's middle: 50.0 + 3 / 111 229 m per degree of latitude at 50 N.
+lat=50.000027 lon=14.40415
+
+"$ROADCROSS" assess --db "$WORK/map.gpkg" --lat $lat --lon $lon --json >"$WORK/a.json"
+[[ $(json_field "$WORK/a.json" suitable) == True ]] && pass "assess: suitable" || fail "assess: not suitable"
+near "$(json_field "$WORK/a.json" distance_m)" 3.0 0.1 || fail "assess: distance"
+[[ $(json_field "$WORK/a.json" score) == 15 && $(json_field "$WORK/a.json" context_score) == 10 ]] || fail "assess: score/context"
+"$ROADCROSS" assess --db "$WORK/map.gpkg" --lat $lat --lon $lon --threshold 26 --json >"$WORK/b.json"
+[[ $(json_field "$WORK/b.json" suitable) == False ]] && pass "assess --threshold 26: not suitable" || fail "threshold override"
+"$ROADCROSS" assess --db "$WORK/map.gpkg" --lat $lat --lon $lon | grep -q "^SUITABLE" || fail "assess text output"
+
+"$ROADCROSS" better --db "$WORK/map.gpkg" --lat $lat --lon $lon --radius 50 --json >"$WORK/c.json"
+python3 - "$WORK/c.json" <<'PY' && pass "better: candidates within 50 m, suitable, facing south" || fail "better"
+import json, math, sys
+d = json.load(open(sys.argv[1]))
+c = d["candidates"]
+assert c and all(x["walking_distance_m"] <= 50 and x["suitable"] for x in c), c
+# North of an east-west road: cross southwards, about -pi/2.
+assert all(abs(x["crossing_heading_rad"] + math.pi / 2) < 0.05 for x in c), c
+PY
+
+printf '%s\n' "{\"op\":\"assess\",\"lat\":$lat,\"lon\":$lon}" "" "{broken" "{\"op\":\"heading\",\"lat\":$lat,\"lon\":$lon}" \
+  "{\"op\":\"nearest\",\"lat\":95,\"lon\":14}" >"$WORK/requests"
+status=0
+"$ROADCROSS" batch --db "$WORK/map.gpkg" <"$WORK/requests" >"$WORK/answers" || status=$?
+[[ $status == 3 ]] && pass "batch exit 3 when some requests fail" || fail "batch exit $status"
+python3 - "$WORK/answers" <<'PY' && pass "batch: one answer per request, numbered, errors per line" || fail "batch answers"
+import json, sys, math
+lines = [json.loads(l) for l in open(sys.argv[1])]
+assert [l["line"] for l in lines] == [1, 3, 4, 5], lines          # the blank line 2 is skipped
+assert lines[0]["ok"] and lines[0]["result"]["suitable"]
+assert not lines[1]["ok"] and lines[1]["error"].startswith("line 3:")
+assert lines[2]["ok"] and abs(lines[2]["result"]["crossing_heading_rad"] + math.pi / 2) < 0.05
+assert not lines[3]["ok"] and "latitude 95" in lines[3]["error"]
+PY
+finish
