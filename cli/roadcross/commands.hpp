@@ -75,6 +75,18 @@ class BetterCommand : public Command {
   BetterPlaceOptions options_;
 };
 
+/// roadcross monitor: progress of a crossing planned from a start position, at a given pose.
+class MonitorCommand : public Command {
+ public:
+  explicit MonitorCommand(CLI::App& parent);
+  int run() override;
+
+ private:
+  QueryOptions query_;
+  std::vector<double> at_utm_;
+  double yaw_rad_ = 0.0;
+};
+
 /// roadcross batch: one JSON request per line on stdin, one JSON answer per line on stdout.
 class BatchCommand : public Command {
  public:

@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
   commands.push_back(std::make_unique<roadcross::cli::HeadingCommand>(app));
   commands.push_back(std::make_unique<roadcross::cli::AssessCommand>(app));
   commands.push_back(std::make_unique<roadcross::cli::BetterCommand>(app));
+  commands.push_back(std::make_unique<roadcross::cli::MonitorCommand>(app));
   commands.push_back(std::make_unique<roadcross::cli::BatchCommand>(app));
   CLI11_PARSE(app, argc, argv);
   for (const auto& command : commands) {

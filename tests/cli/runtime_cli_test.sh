@@ -47,4 +47,20 @@ assert not lines[1]["ok"] and lines[1]["error"].startswith("line 3:")
 assert lines[2]["ok"] and abs(lines[2]["result"]["crossing_heading_rad"] + math.pi / 2) < 0.05
 assert not lines[3]["ok"] and "latitude 95" in lines[3]["error"]
 PY
+# monitor: the plan from 3 m north crosses southwards to 3.5 m south of the centreline (width
+# 6 m by default): 6.5 m long. Halfway along it, facing south, the robot is on track at 50 %.
+"$ROADCROSS" nearest --db "$WORK/map.gpkg" --lat $lat --lon $lon --json >"$WORK/n.json"
+read -r qe qn <<<"$(python3 -c "import json; d=json.load(open('$WORK/n.json')); print(*d['query_utm_m'])")"
+read -r ce cn <<<"$(python3 -c "import json; d=json.load(open('$WORK/n.json')); print(*d['closest_utm_m'])")"
+read -r me mn <<<"$(python3 -c "
+import math
+qe, qn, ce, cn = $qe, $qn, $ce, $cn
+d = math.hypot(ce - qe, cn - qn); ux, uy = (ce - qe) / d, (cn - qn) / d
+L = d + 3.5
+print(qe + ux * L / 2, qn + uy * L / 2)")"
+"$ROADCROSS" monitor --db "$WORK/map.gpkg" --lat $lat --lon $lon --at "$me" "$mn" --yaw -1.5708 --json >"$WORK/m.json"
+[[ $(json_field "$WORK/m.json" state) == ON_TRACK ]] || fail "monitor state $(cat "$WORK/m.json")"
+near "$(json_field "$WORK/m.json" progress)" 0.5 0.01 && pass "monitor: halfway, on track" || fail "monitor progress"
+"$ROADCROSS" monitor --db "$WORK/map.gpkg" --lat $lat --lon $lon --at "$me" "$(python3 -c "print($mn + 0)")" --yaw 0 --json >"$WORK/m2.json"
+[[ $(json_field "$WORK/m2.json" state) == DRIFTING ]] && pass "monitor: facing east mid-crossing is DRIFTING" || fail "monitor drifting"
 finish
