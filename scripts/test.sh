@@ -1,10 +1,16 @@
 #!/usr/bin/env bash
-# Sets up, builds and runs every test (ctest). With --asan, the same tests under ASan+UBSan.
+# Sets up, builds and runs every test (ctest). With --asan, the same tests under ASan+UBSan;
+# with --runtime-only, the runtime-only build (SQLite + GeographicLib, no GIS stack) and its tests.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 preset=release
-if [[ "${1:-}" == "--asan" ]]; then preset=asan; fi
+case "${1:-}" in
+  --asan) preset=asan ;;
+  --runtime-only) preset=runtime-only ;;
+  "") ;;
+  *) echo "usage: scripts/test.sh [--asan | --runtime-only]" >&2; exit 2 ;;
+esac
 
 bash scripts/setup.sh
 cmake --preset "$preset" >/dev/null
