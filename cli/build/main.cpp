@@ -32,7 +32,8 @@ void print_json_summary(const rp::BuildOptions& options, const rp::BuildSummary&
   out["notes"] = s.notes;
   nlohmann::ordered_json stages = nlohmann::ordered_json::array();
   for (const rp::StageRecord& stage : s.stages) {
-    stages.push_back({{"stage", stage.name}, {"seconds", stage.seconds}, {"summary", stage.summary}});
+    stages.push_back(
+        {{"stage", stage.name}, {"seconds", stage.seconds}, {"summary", stage.summary}});
   }
   out["stages"] = stages;
   out["seconds"] = s.seconds;
@@ -59,27 +60,33 @@ int main(int argc, char** argv) {
   CLI::App app{
       "roadcross-build: turn an OpenStreetMap extract into a roadcross GeoPackage of short road\n"
       "segments with crossing cost terms, for the roadcross runtime.\n\n"
-      "Example:\n  roadcross-build --osm maps/prague/prague_nove_mesto_roads_2017.osm -o prague.gpkg\n",
+      "Example:\n  roadcross-build --osm maps/prague/prague_nove_mesto_roads_2017.osm -o "
+      "prague.gpkg\n",
       "roadcross-build"};
   app.set_version_flag("--version", std::string("roadcross-build ") + roadcross::kVersion);
   rp::BuildOptions options;
   bool quiet = false;
   // --print-config needs no input or output.
-  const bool printing_config = std::any_of(
-      argv + 1, argv + argc, [](const char* arg) { return std::string_view(arg) == "--print-config"; });
+  const bool printing_config = std::any_of(argv + 1, argv + argc, [](const char* arg) {
+    return std::string_view(arg) == "--print-config";
+  });
   app.add_option("--osm", options.osm_path, "OSM input: .osm, .osm.gz, .osm.bz2 or .osm.pbf")
       ->required(!printing_config);
-  app.add_option("-o,--output", options.output_path, "output GeoPackage (.gpkg); replaced atomically")
+  app.add_option("-o,--output", options.output_path,
+                 "output GeoPackage (.gpkg); replaced atomically")
       ->required(!printing_config);
   std::string config_path;
   bool print_config = false;
-  app.add_option("--config", config_path,
-                 "parameter file (INI/TOML, as --print-config writes); --section.name flags override it");
-  app.add_flag("--print-config", print_config,
-               "print every parameter (with --config and flags applied) as a parameter file and exit");
-  app.add_option("--overrides", options.overrides_path,
-                 "operator overrides: GeoJSON polygons or osm_way_id with context_delta, no_crossing, "
-                 "force_suitable, note");
+  app.add_option(
+      "--config", config_path,
+      "parameter file (INI/TOML, as --print-config writes); --section.name flags override it");
+  app.add_flag(
+      "--print-config", print_config,
+      "print every parameter (with --config and flags applied) as a parameter file and exit");
+  app.add_option(
+      "--overrides", options.overrides_path,
+      "operator overrides: GeoJSON polygons or osm_way_id with context_delta, no_crossing, "
+      "force_suitable, note");
   app.add_option("--country", options.country,
                  "country of implicit speed limits for untagged ways (CZ, SK, DE, AT, PL, FR, MC, "
                  "default); default: from the tags, else the extract's location");
@@ -113,14 +120,17 @@ int main(int argc, char** argv) {
     if (json) {
       print_json_summary(options, s);
     } else if (!quiet) {
-      std::printf("%s: %llu segments (%.1f km) from %llu road ways, %llu junctions, UTM zone %d%s, %.2f s\n",
-                  options.output_path.c_str(), static_cast<unsigned long long>(s.segments),
-                  s.total_length_m / 1000.0, static_cast<unsigned long long>(s.road_ways),
-                  static_cast<unsigned long long>(s.junctions), s.zone.zone,
-                  s.zone.northern ? "N" : "S", s.seconds);
+      std::printf(
+          "%s: %llu segments (%.1f km) from %llu road ways, %llu junctions, UTM zone %d%s, %.2f "
+          "s\n",
+          options.output_path.c_str(), static_cast<unsigned long long>(s.segments),
+          s.total_length_m / 1000.0, static_cast<unsigned long long>(s.road_ways),
+          static_cast<unsigned long long>(s.junctions), s.zone.zone, s.zone.northern ? "N" : "S",
+          s.seconds);
       if (s.missing_node_refs > 0) {
-        std::printf("note: %llu node references of road ways were not in the file (cut by the extract)\n",
-                    static_cast<unsigned long long>(s.missing_node_refs));
+        std::printf(
+            "note: %llu node references of road ways were not in the file (cut by the extract)\n",
+            static_cast<unsigned long long>(s.missing_node_refs));
       }
       for (const std::string& note : s.notes) std::printf("  %s\n", note.c_str());
     }

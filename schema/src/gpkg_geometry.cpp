@@ -62,7 +62,8 @@ Envelope envelope_of(std::span<const PlanePoint> points) {
   return e;
 }
 
-std::vector<std::uint8_t> encode_linestring(std::span<const PlanePoint> points, std::int32_t srs_id) {
+std::vector<std::uint8_t> encode_linestring(std::span<const PlanePoint> points,
+                                            std::int32_t srs_id) {
   std::vector<std::uint8_t> out;
   out.reserve(8 + 32 + 9 + points.size() * 16);
   append_header(out, kFlagsLittleEndianXyEnvelope, srs_id);

@@ -30,7 +30,9 @@ Database::Database(const std::string& path, int flags) {
   sqlite3_extended_result_codes(db_, 1);
 }
 
-Database::~Database() { sqlite3_close(db_); }
+Database::~Database() {
+  sqlite3_close(db_);
+}
 
 void Database::exec(std::string_view sql) {
   char* error = nullptr;
@@ -43,15 +45,16 @@ void Database::exec(std::string_view sql) {
   }
 }
 
-Statement Database::prepare(std::string_view sql) { return Statement(db_, sql); }
+Statement Database::prepare(std::string_view sql) {
+  return Statement(db_, sql);
+}
 
 Statement::Statement(sqlite3* db, std::string_view sql) : db_(db) {
-  const int rc =
-      sqlite3_prepare_v3(db, sql.data(), static_cast<int>(sql.size()), SQLITE_PREPARE_PERSISTENT,
-                         &stmt_, nullptr);
+  const int rc = sqlite3_prepare_v3(db, sql.data(), static_cast<int>(sql.size()),
+                                    SQLITE_PREPARE_PERSISTENT, &stmt_, nullptr);
   if (rc != SQLITE_OK) {
-    throw sqlite_error(rc, std::string(sqlite3_errmsg(db)) + " (in: " +
-                               std::string(sql.substr(0, 120)) + ")");
+    throw sqlite_error(
+        rc, std::string(sqlite3_errmsg(db)) + " (in: " + std::string(sql.substr(0, 120)) + ")");
   }
 }
 
@@ -75,7 +78,9 @@ void Statement::bind(int index, std::span<const std::uint8_t> blob) {
   check_bind(db_, sqlite3_bind_blob(stmt_, index, blob.data(), static_cast<int>(blob.size()),
                                     SQLITE_TRANSIENT));
 }
-void Statement::bind_null(int index) { check_bind(db_, sqlite3_bind_null(stmt_, index)); }
+void Statement::bind_null(int index) {
+  check_bind(db_, sqlite3_bind_null(stmt_, index));
+}
 
 bool Statement::step() {
   const int rc = sqlite3_step(stmt_);

@@ -57,7 +57,9 @@ void timed_loop(benchmark::State& state, Call&& call) {
   for (auto _ : state) {
     const auto start = std::chrono::steady_clock::now();
     call(queries[i++ % queries.size()]);
-    latencies_us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count());
+    latencies_us.push_back(
+        std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start)
+            .count());
   }
   std::sort(latencies_us.begin(), latencies_us.end());
   state.counters["p50_us"] = latencies_us[latencies_us.size() / 2];
@@ -75,21 +77,25 @@ BENCHMARK(BM_Open)->Unit(benchmark::kMillisecond);
 
 void BM_Nearest(benchmark::State& state) {
   auto map = roadcross::Map::open(database());
-  timed_loop(state, [&](const roadcross::Position& p) { benchmark::DoNotOptimize(map->nearest(p).ok()); });
+  timed_loop(state,
+             [&](const roadcross::Position& p) { benchmark::DoNotOptimize(map->nearest(p).ok()); });
 }
 BENCHMARK(BM_Nearest)->Unit(benchmark::kMicrosecond);
 
 void BM_Assess(benchmark::State& state) {
   static thread_local std::optional<roadcross::Map> map;  // one Map (connection) per thread
   if (!map) map.emplace(std::move(*roadcross::Map::open(database()).value));
-  timed_loop(state, [&](const roadcross::Position& p) { benchmark::DoNotOptimize(map->assess(p).ok()); });
+  timed_loop(state,
+             [&](const roadcross::Position& p) { benchmark::DoNotOptimize(map->assess(p).ok()); });
   state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_Assess)->Unit(benchmark::kMicrosecond)->Threads(1)->Threads(2)->UseRealTime();
 
 void BM_BetterPlace100m(benchmark::State& state) {
   auto map = roadcross::Map::open(database());
-  timed_loop(state, [&](const roadcross::Position& p) { benchmark::DoNotOptimize(map->better_place(p).ok()); });
+  timed_loop(state, [&](const roadcross::Position& p) {
+    benchmark::DoNotOptimize(map->better_place(p).ok());
+  });
 }
 BENCHMARK(BM_BetterPlace100m)->Unit(benchmark::kMicrosecond);
 
@@ -99,10 +105,11 @@ void BM_BareRtreeLookup(benchmark::State& state) {
   sqlite3* db = nullptr;
   sqlite3_open_v2(database().c_str(), &db, SQLITE_OPEN_READONLY | SQLITE_OPEN_NOMUTEX, nullptr);
   sqlite3_stmt* stmt = nullptr;
-  sqlite3_prepare_v2(db,
-                     "SELECT id FROM rtree_segments_geom WHERE maxx >= ?1 AND minx <= ?2 AND maxy >= ?3 "
-                     "AND miny <= ?4",
-                     -1, &stmt, nullptr);
+  sqlite3_prepare_v2(
+      db,
+      "SELECT id FROM rtree_segments_geom WHERE maxx >= ?1 AND minx <= ?2 AND maxy >= ?3 "
+      "AND miny <= ?4",
+      -1, &stmt, nullptr);
   timed_loop(state, [&](const roadcross::Position& p) {
     sqlite3_bind_double(stmt, 1, p.first - 32);
     sqlite3_bind_double(stmt, 2, p.first + 32);

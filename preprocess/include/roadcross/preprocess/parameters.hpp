@@ -47,5 +47,4 @@ struct Parameters {
   std::vector<std::pair<std::string, std::string>> as_metadata() const;
 };
 
-
 }  // namespace roadcross::preprocess

@@ -54,16 +54,16 @@ bool is_crossing_way(const Tags& tags) noexcept;
 
 struct RoadNetwork {
   std::string source_path;
-  std::vector<RoadWay> ways;             ///< sorted by osm_id
-  std::vector<NodeLocation> locations;   ///< sorted by osm_id, only nodes used by `ways`
-  std::vector<TaggedNode> tagged_nodes;  ///< sorted by osm_id, only nodes used by `ways`
+  std::vector<RoadWay> ways;               ///< sorted by osm_id
+  std::vector<NodeLocation> locations;     ///< sorted by osm_id, only nodes used by `ways`
+  std::vector<TaggedNode> tagged_nodes;    ///< sorted by osm_id, only nodes used by `ways`
   std::vector<CrossingWay> crossing_ways;  ///< sorted by osm_id
   /// Locations of the crossing ways' nodes that no road way uses, sorted by osm_id.
   std::vector<NodeLocation> crossing_way_locations;
-  std::uint64_t ways_read = 0;           ///< all ways in the file
-  std::uint64_t nodes_read = 0;          ///< all nodes in the file
-  std::uint64_t missing_locations = 0;   ///< node references of road ways not in the file
-  std::int64_t newest_timestamp_s = 0;   ///< newest object timestamp (s since epoch), 0 if none
+  std::uint64_t ways_read = 0;          ///< all ways in the file
+  std::uint64_t nodes_read = 0;         ///< all nodes in the file
+  std::uint64_t missing_locations = 0;  ///< node references of road ways not in the file
+  std::int64_t newest_timestamp_s = 0;  ///< newest object timestamp (s since epoch), 0 if none
 
   /// Location of a node, or nullptr when the file did not contain it.
   const NodeLocation* find_location(std::int64_t node_id) const noexcept;

@@ -63,7 +63,7 @@ struct RoadPiece {
   std::size_t way_index = 0;
   std::int64_t from_node_id = 0;  ///< OSM id of the graph node at the start
   std::int64_t to_node_id = 0;
-  std::vector<PlanePoint> points;  ///< the OSM vertices of the piece, UTM metres
+  std::vector<PlanePoint> points;      ///< the OSM vertices of the piece, UTM metres
   std::vector<std::int64_t> node_ids;  ///< OSM node id of each vertex in `points`
   double length_m = 0.0;
   std::size_t first_segment = 0;  ///< index into the segment vector
