@@ -120,24 +120,23 @@ std::string feature_table_ddl(std::string_view table, std::string_view geometry_
   return ddl + ")";
 }
 
-std::string segments_table_ddl() {
-  return feature_table_ddl(kSegmentsTable, "LINESTRING", segment_columns());
-}
-
-/// The crossings feature table: its DDL, gpkg_contents and gpkg_geometry_columns rows, R*Tree.
-std::vector<std::string> crossings_statements(const std::string& srs,
-                                              std::string_view last_change) {
-  const std::string table(kCrossingsTable);
+/// A feature table with its gpkg_contents and gpkg_geometry_columns rows, its R*Tree and the
+/// R*Tree extension row: everything GeoPackage readers need to find it (spec 1.3, 1.1.3, F.3).
+std::vector<std::string> feature_table_statements(std::string_view table, std::string_view rtree,
+                                                  std::string_view geometry_type,
+                                                  const std::vector<Column>& columns,
+                                                  std::string_view description,
+                                                  const std::string& srs,
+                                                  std::string_view last_change) {
   return {
-      feature_table_ddl(kCrossingsTable, "POINT", crossing_columns()),
+      feature_table_ddl(table, geometry_type, columns),
       "INSERT INTO gpkg_contents (table_name, data_type, identifier, description, last_change, "
       "srs_id) VALUES (" +
-          quote(table) + ", 'features', 'crossings', 'designated road crossings', " +
+          quote(table) + ", 'features', " + quote(table) + ", " + quote(description) + ", " +
           quote(last_change) + ", " + srs + ")",
       "INSERT INTO gpkg_geometry_columns VALUES (" + quote(table) + ", " + quote(kGeometryColumn) +
-          ", 'POINT', " + srs + ", 0, 0)",
-      "CREATE VIRTUAL TABLE " + std::string(kCrossingsRtree) +
-          " USING rtree(id, minx, maxx, miny, maxy)",
+          ", " + quote(geometry_type) + ", " + srs + ", 0, 0)",
+      "CREATE VIRTUAL TABLE " + std::string(rtree) + " USING rtree(id, minx, maxx, miny, maxy)",
       "INSERT INTO gpkg_extensions VALUES (" + quote(table) + ", " + quote(kGeometryColumn) +
           ", 'gpkg_rtree_index', 'http://www.geopackage.org/spec120/#extension_rtree', "
           "'write-only')",
@@ -176,8 +175,6 @@ std::vector<std::string> rtree_triggers(const std::string& t, const std::string&
 std::vector<std::string> create_statements(int zone, bool northern, std::string_view last_change) {
   const int epsg = utm_epsg(zone, northern);
   const std::string srs = std::to_string(epsg);
-  const std::string segments(kSegmentsTable);
-  const std::string geom(kGeometryColumn);
   std::vector<std::string> statements = {
       "PRAGMA application_id = " + std::to_string(kGpkgApplicationId),
       "PRAGMA user_version = " + std::to_string(kGpkgUserVersion),
@@ -211,19 +208,7 @@ std::vector<std::string> create_statements(int zone, bool northern, std::string_
       "CREATE TABLE gpkg_extensions (table_name TEXT, column_name TEXT, extension_name TEXT NOT "
       "NULL, definition TEXT NOT NULL, scope TEXT NOT NULL, CONSTRAINT ge_tce UNIQUE "
       "(table_name, column_name, extension_name))",
-      // roadcross tables.
-      segments_table_ddl(),
-      "INSERT INTO gpkg_contents (table_name, data_type, identifier, description, last_change, "
-      "srs_id) VALUES (" +
-          quote(segments) + ", 'features', 'segments', 'road segments with crossing cost terms', " +
-          quote(last_change) + ", " + srs + ")",
-      "INSERT INTO gpkg_geometry_columns VALUES (" + quote(segments) + ", " + quote(geom) +
-          ", 'LINESTRING', " + srs + ", 0, 0)",
-      "CREATE VIRTUAL TABLE " + std::string(kSegmentsRtree) +
-          " USING rtree(id, minx, maxx, miny, maxy)",
-      "INSERT INTO gpkg_extensions VALUES (" + quote(segments) + ", " + quote(geom) +
-          ", 'gpkg_rtree_index', 'http://www.geopackage.org/spec120/#extension_rtree', "
-          "'write-only')",
+      // roadcross tables: the metadata here, the feature tables appended below.
       "CREATE TABLE " + std::string(kMetadataTable) +
           " (key TEXT PRIMARY KEY NOT NULL, value TEXT NOT NULL)",
       "INSERT INTO gpkg_contents (table_name, data_type, identifier, description, last_change) "
@@ -233,8 +218,12 @@ std::vector<std::string> create_statements(int zone, bool northern, std::string_
           "inputs', " +
           quote(last_change) + ")",
   };
-  for (std::string& statement : crossings_statements(srs, last_change)) {
-    statements.push_back(std::move(statement));
+  for (auto feature_table :
+       {feature_table_statements(kSegmentsTable, kSegmentsRtree, "LINESTRING", segment_columns(),
+                                 "road segments with crossing cost terms", srs, last_change),
+        feature_table_statements(kCrossingsTable, kCrossingsRtree, "POINT", crossing_columns(),
+                                 "designated road crossings", srs, last_change)}) {
+    for (std::string& statement : feature_table) statements.push_back(std::move(statement));
   }
   return statements;
 }
