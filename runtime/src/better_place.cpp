@@ -152,9 +152,10 @@ Result<BetterPlaces> Map::better_place(const Position& position,
     std::unordered_map<std::int64_t, double> side_at_node{{local[start].from, -side_of_start},
                                                           {local[start].to, side_of_start}};
     std::unordered_map<std::size_t, double> side_of_segment{{start, side_of_start}};
-    // At a junction the walk goes on only along the straightest continuation: turning into a
-    // side road could mean crossing the road the robot is on, which is what it is looking for
-    // a place to do. Per node: the segment the walk arrived by and its direction there.
+    // At a junction the walk goes straight on, or turns into a side road on the robot's own
+    // side; a side road across the road could only be reached by crossing, which is what the
+    // robot is looking for a place to do. Per node: the segment the walk arrived by and its
+    // direction there.
     std::unordered_map<std::int64_t, std::pair<std::size_t, double>> arrived{
         {local[start].from, {start, arrival_yaw(local[start], false)}},
         {local[start].to, {start, arrival_yaw(local[start], true)}}};
@@ -168,14 +169,19 @@ Result<BetterPlaces> Map::better_place(const Position& position,
         if (i != came_by) onward.push_back(i);
       }
       if (onward.size() > 1) {
+        // Straight on is always allowed; a turn only towards the robot's own side (a side road
+        // on the other side would have to be reached by crossing).
         const auto turn = [&](std::size_t i) {
-          return std::abs(
-              geo::angle_difference_rad(departure_yaw(local[i], local[i].from == node), heading));
+          return geo::angle_difference_rad(departure_yaw(local[i], local[i].from == node), heading);
         };
-        const std::size_t straightest =
-            *std::min_element(onward.begin(), onward.end(),
-                              [&](std::size_t a, std::size_t b) { return turn(a) < turn(b); });
-        onward.assign(1, straightest);
+        const std::size_t straightest = *std::min_element(
+            onward.begin(), onward.end(),
+            [&](std::size_t a, std::size_t b) { return std::abs(turn(a)) < std::abs(turn(b)); });
+        constexpr double kClearTurnRad = 0.3;
+        const double own_side = side_at_node[node];  // +1 left of the walking direction
+        std::erase_if(onward, [&](std::size_t i) {
+          return i != straightest && !(own_side * turn(i) > kClearTurnRad);
+        });
       }
       for (std::size_t i : onward) {
         if (i == start) continue;

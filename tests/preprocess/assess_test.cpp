@@ -190,6 +190,24 @@ TEST_F(BetterPlace, NextToAJunctionTheBetterPlaceIsAwayFromItOnTheSameSide) {
   }
 }
 
+TEST_F(BetterPlace, ASideRoadOnTheRobotsOwnSideCanBeReached) {
+  // 8 m west of the junction, 3 m NORTH of the main road: the side road (north) is on the
+  // robot's side, so walking into it needs no crossing; with 60 m of search the side road's
+  // segments beyond its junction zone (15..60 m up it) are among the reachable places.
+  roadcross::BetterPlaceOptions options;
+  options.search_radius_m = 60.0;
+  options.max_candidates = 50;
+  const auto places = map_->better_place(
+      Position::utm(junction_.easting_m - 8.0, junction_.northing_m + 3.0), options);
+  ASSERT_TRUE(places.ok());
+  const bool on_side_road =
+      std::any_of(places->candidates.begin(), places->candidates.end(),
+                  [&](const auto& c) { return c.point.northing_m > junction_.northing_m + 15.0; });
+  EXPECT_TRUE(on_side_road);
+  // ... and none is south of the main road.
+  for (const auto& c : places->candidates) EXPECT_GT(c.point.northing_m, junction_.northing_m);
+}
+
 TEST_F(BetterPlace, NothingSuitableGivesAnEmptyListWithAReason) {
   roadcross::BetterPlaceOptions impossible;
   impossible.assess.threshold = 1000.0;
