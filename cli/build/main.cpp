@@ -1,4 +1,4 @@
-// roadcross-build: OSM extract (+ elevation, later) -> roadcross GeoPackage.
+// roadcross-build: OSM extract + elevation (XYZ points, rasters) -> roadcross GeoPackage.
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "roadcross/preprocess/build.hpp"
+#include "roadcross/preprocess/elevation_input.hpp"
 #include "roadcross/preprocess/errors.hpp"
 #include "roadcross/preprocess/interrupt.hpp"
 #include "roadcross/preprocess/parameter_file.hpp"
@@ -29,6 +30,18 @@ void print_json_summary(const rp::BuildOptions& options, const rp::BuildSummary&
   out["total_length_m"] = s.total_length_m;
   out["missing_node_refs"] = s.missing_node_refs;
   out["crossings"] = s.crossings;
+  if (s.has_elevation) {
+    const rp::TerrainReport& t = s.terrain;
+    out["terrain"] = {{"grid_cols", t.grid.cols},
+                      {"grid_rows", t.grid.rows},
+                      {"cell_m", t.grid.cell_m},
+                      {"cells_with_elevation", t.cells_with_elevation},
+                      {"voids_filled", t.voids_filled},
+                      {"xyz_points", t.xyz_points},
+                      {"xyz_crs", t.xyz_crs},
+                      {"segments_without_elevation", t.segments_without_elevation},
+                      {"structure_segments", t.structure_segments}};
+  }
   out["notes"] = s.notes;
   nlohmann::ordered_json stages = nlohmann::ordered_json::array();
   for (const rp::StageRecord& stage : s.stages) {
@@ -61,7 +74,7 @@ int main(int argc, char** argv) {
       "roadcross-build: turn an OpenStreetMap extract into a roadcross GeoPackage of short road\n"
       "segments with crossing cost terms, for the roadcross runtime.\n\n"
       "Example:\n  roadcross-build --osm maps/prague/prague_nove_mesto_roads_2017.osm -o "
-      "prague.gpkg\n",
+      "prague.gpkg \\\n      --elevation maps/prague/N50E014.hgt\n",
       "roadcross-build"};
   app.set_version_flag("--version", std::string("roadcross-build ") + roadcross::kVersion);
   rp::BuildOptions options;
@@ -75,6 +88,15 @@ int main(int argc, char** argv) {
   app.add_option("-o,--output", options.output_path,
                  "output GeoPackage (.gpkg); replaced atomically")
       ->required(!printing_config);
+  std::vector<std::string> elevation_paths;
+  app.add_option("--elevation", elevation_paths,
+                 "elevation input, repeatable, kinds may be mixed: XYZ points (.xyz/.txt/.csv: "
+                 "'easting northing altitude' per line) or any raster GDAL reads (GeoTIFF, SRTM "
+                 ".hgt, ...); where inputs overlap the first given wins")
+      ->check(CLI::ExistingFile);
+  app.add_option("--elevation-crs", options.elevation.xyz_crs,
+                 "coordinate system of the XYZ files (EPSG:5514 S-JTSK, EPSG:32633, a PROJ "
+                 "string); default: S-JTSK when the values fit it, else an error");
   std::string config_path;
   bool print_config = false;
   app.add_option(
@@ -112,6 +134,9 @@ int main(int argc, char** argv) {
     return 2;
   }
 
+  for (const std::string& path : elevation_paths) {
+    options.elevation.sources.push_back({path, rp::elevation_kind_of(path)});
+  }
   rp::install_interrupt_cleanup();
   options.show_progress = !quiet && rp::Progress::stderr_is_terminal();
   options.tool_version = roadcross::kVersion;

@@ -17,6 +17,7 @@
 #include "roadcross/preprocess/road_network.hpp"
 #include "roadcross/preprocess/segments.hpp"
 #include "roadcross/preprocess/sha256.hpp"
+#include "roadcross/preprocess/terrain.hpp"
 #include "roadcross/schema/schema.hpp"
 
 namespace roadcross::preprocess {
@@ -77,6 +78,13 @@ BuildSummary run_build(const BuildOptions& options) {
   progress.start_stage("geometry cost");
   compute_geometry_costs(graph, options.parameters.geometry);
   progress.finish_stage("class, junctions, curvature");
+  const bool has_elevation = !options.elevation.sources.empty();
+  TerrainReport terrain;
+  if (has_elevation) {
+    terrain = compute_terrain(graph, options.elevation, options.parameters.terrain, progress);
+  } else {
+    for (Segment& s : graph.segments) s.reasons.emplace_back("NO_ELEVATION");
+  }
   progress.start_stage("context");
   const ContextReport context =
       compute_context(graph, network, options.parameters.context, options.country, overrides);
@@ -97,6 +105,15 @@ BuildSummary run_build(const BuildOptions& options) {
   contents.metadata.emplace_back(input + "kind", "osm");
   contents.metadata.emplace_back(input + "file", base_name(options.osm_path));
   contents.metadata.emplace_back(input + "sha256", osm_sha256);
+  for (std::size_t i = 0; i < options.elevation.sources.size(); ++i) {
+    const ElevationSource& source = options.elevation.sources[i];
+    const std::string key = std::string(schema::meta::kInputPrefix) + std::to_string(i + 1) + ".";
+    const bool xyz = source.kind == ElevationKind::xyz;
+    contents.metadata.emplace_back(key + "kind", xyz ? "elevation-xyz" : "elevation-raster");
+    contents.metadata.emplace_back(key + "file", base_name(source.path));
+    contents.metadata.emplace_back(key + "sha256", sha256_of_file(source.path));
+    if (xyz) contents.metadata.emplace_back(key + "crs", terrain.xyz_crs);
+  }
   contents.metadata.emplace_back(schema::meta::kContextCountry, context.country.country);
   contents.metadata.emplace_back(schema::meta::kCrossingCount,
                                  std::to_string(context.crossings.size()));
@@ -130,6 +147,23 @@ BuildSummary run_build(const BuildOptions& options) {
   summary.missing_node_refs = graph.dropped_node_refs;
   summary.crossings = context.crossings.size();
   summary.notes = context.summary_lines();
+  summary.has_elevation = has_elevation;
+  summary.terrain = terrain;
+  if (has_elevation) {
+    summary.notes.push_back(std::to_string(terrain.segments_without_elevation) + " of " +
+                            std::to_string(graph.segments.size()) +
+                            " segments have no elevation (NO_ELEVATION; rank without the term)");
+    if (terrain.structure_segments > 0) {
+      summary.notes.push_back(std::to_string(terrain.structure_segments) +
+                              " bridge/tunnel segments take their elevation from the structure's "
+                              "ends");
+    }
+    for (const auto& [path, cells] : terrain.cells_per_source) {
+      if (cells == 0) summary.notes.push_back("elevation input " + path + " covers no road");
+    }
+  } else {
+    summary.notes.push_back("no elevation input (--elevation): every segment is NO_ELEVATION");
+  }
   summary.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   summary.stages = progress.stages();

@@ -197,41 +197,22 @@ void assign_radii(RoadGraph& graph, const Stroke& stroke, const GeometryParamete
   }
 }
 
-/// Length of [a, b] inside [lo, hi].
-double overlap(double a, double b, double lo, double hi) {
-  return std::max(0.0, std::min(b, hi) - std::max(a, lo));
-}
-
 }  // namespace
 
 void assign_curvature_costs(RoadGraph& graph, const Stroke& stroke, const GeometryParameters& p) {
-  const std::vector<StrokeSegment>& segments = stroke.segments;
-  const double total = stroke.length_m;
-  // On a ring the window continues past the closing point: the stroke is seen shifted by
-  // -total and +total as well (a window shorter than the ring never counts a segment twice).
-  const std::vector<double> shifts =
-      stroke.closed ? std::vector<double>{-total, 0.0, total} : std::vector<double>{0.0};
-  for (std::size_t i = 0; i < segments.size(); ++i) {
-    const StrokeSegment& own = segments[i];
-    const double mid = 0.5 * (own.start_m + own.end_m);
-    const double lo = mid - p.window_half_length_m, hi = mid + p.window_half_length_m;
-    double weighted = 0.0, length = 0.0;
-    for (const double shift : shifts) {
-      // Segments are in stroke order: start at the first one that ends after the window opens.
-      auto it = std::partition_point(segments.begin(), segments.end(),
-                                     [&](const StrokeSegment& x) { return x.end_m + shift <= lo; });
-      for (; it != segments.end() && it->start_m + shift < hi; ++it) {
-        const bool is_own = shift == 0.0 && it == segments.begin() + static_cast<std::ptrdiff_t>(i);
-        const double inside = overlap(it->start_m + shift, it->end_m + shift, lo, hi) *
-                              (is_own ? p.own_segment_weight : 1.0);
-        const int level = *graph.segments[it->segment].curvature_level;
-        weighted += inside * p.level_weight[static_cast<std::size_t>(level)];
-        length += inside;
-      }
-    }
+  std::vector<double> weights;
+  weights.reserve(stroke.segments.size());
+  for (const StrokeSegment& s : stroke.segments) {
+    const int level = *graph.segments[s.segment].curvature_level;
+    weights.push_back(p.level_weight[static_cast<std::size_t>(level)]);
+  }
+  const std::vector<double> mean =
+      windowed_mean(stroke, weights, p.window_half_length_m, p.own_segment_weight);
+  for (std::size_t i = 0; i < stroke.segments.size(); ++i) {
     // The epsilon keeps an exact quotient (3.0 from uniform weights) from flooring to 2.
-    const double cost = length > 0.0 ? std::floor(weighted / length + 1e-9) : 0.0;
-    graph.segments[own.segment].curvature_cost = static_cast<int>(std::clamp(cost, 0.0, 14.0));
+    const double cost = std::isnan(mean[i]) ? 0.0 : std::floor(mean[i] + 1e-9);
+    graph.segments[stroke.segments[i].segment].curvature_cost =
+        static_cast<int>(std::clamp(cost, 0.0, 14.0));
   }
 }
 

@@ -32,6 +32,7 @@ std::vector<ParameterSpec> Parameters::specs() {
   std::vector<ParameterSpec> out;
   segments.describe(out);
   geometry.describe(out);
+  terrain.describe(out);
   rank.describe(out);
   context.describe(out);
   suitability.describe(out);
@@ -50,6 +51,7 @@ void Parameters::validate() const {
     }
   }
   geometry.validate_relations();
+  terrain.validate_relations();
 }
 
 std::vector<std::pair<std::string, std::string>> Parameters::as_metadata() const {

@@ -1,7 +1,9 @@
 #include "roadcross/preprocess/strokes.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <deque>
+#include <limits>
 #include <unordered_map>
 
 namespace roadcross::preprocess {
@@ -117,6 +119,45 @@ std::vector<Stroke> build_strokes(const RoadGraph& graph) {
     strokes.push_back(make_stroke(graph, steps, closed));
   }
   return strokes;
+}
+
+namespace {
+/// Length of [a, b] inside [lo, hi].
+double overlap(double a, double b, double lo, double hi) {
+  return std::max(0.0, std::min(b, hi) - std::max(a, lo));
+}
+}  // namespace
+
+std::vector<double> windowed_mean(const Stroke& stroke, const std::vector<double>& values,
+                                  double half_length_m, double own_weight) {
+  const std::vector<StrokeSegment>& segments = stroke.segments;
+  const double total = stroke.length_m;
+  // On a ring the window continues past the closing point: the stroke is seen shifted by
+  // -total and +total as well (a window shorter than the ring never counts a segment twice).
+  const std::vector<double> shifts =
+      stroke.closed ? std::vector<double>{-total, 0.0, total} : std::vector<double>{0.0};
+  std::vector<double> out(segments.size());
+  for (std::size_t i = 0; i < segments.size(); ++i) {
+    const double mid = 0.5 * (segments[i].start_m + segments[i].end_m);
+    const double lo = mid - half_length_m, hi = mid + half_length_m;
+    double weighted = 0.0, length = 0.0;
+    for (const double shift : shifts) {
+      // Segments are in stroke order: start at the first one that ends after the window opens.
+      auto it = std::partition_point(segments.begin(), segments.end(),
+                                     [&](const StrokeSegment& x) { return x.end_m + shift <= lo; });
+      for (; it != segments.end() && it->start_m + shift < hi; ++it) {
+        const double value = values[static_cast<std::size_t>(it - segments.begin())];
+        if (std::isnan(value)) continue;
+        const bool is_own = shift == 0.0 && it == segments.begin() + static_cast<std::ptrdiff_t>(i);
+        const double inside =
+            overlap(it->start_m + shift, it->end_m + shift, lo, hi) * (is_own ? own_weight : 1.0);
+        weighted += inside * value;
+        length += inside;
+      }
+    }
+    out[i] = length > 0.0 ? weighted / length : std::numeric_limits<double>::quiet_NaN();
+  }
+  return out;
 }
 
 }  // namespace roadcross::preprocess

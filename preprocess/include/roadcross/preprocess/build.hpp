@@ -1,4 +1,4 @@
-// roadcross-build as a library call: OSM (+ later elevation) in, one GeoPackage out.
+// roadcross-build as a library call: OSM and elevation in, one GeoPackage out.
 #pragma once
 
 #include <cstdint>
@@ -9,6 +9,7 @@
 #include "roadcross/geo.hpp"
 #include "roadcross/preprocess/parameters.hpp"
 #include "roadcross/preprocess/progress.hpp"
+#include "roadcross/preprocess/terrain.hpp"
 
 namespace roadcross::preprocess {
 
@@ -16,6 +17,9 @@ struct BuildOptions {
   std::string osm_path;
   std::string output_path;
   Parameters parameters;
+  /// Elevation inputs (XYZ point files and rasters, in the order given) and the CRS of the XYZ
+  /// files; no source: the build runs without terrain (NO_ELEVATION everywhere).
+  TerrainInputs elevation;
   std::string overrides_path;  ///< operator overrides (GeoJSON), optional
   std::string country;         ///< ISO code for implicit speed limits; empty: detect
   bool show_progress = false;
@@ -34,6 +38,8 @@ struct BuildSummary {
   std::vector<StageRecord> stages;  ///< name, seconds and summary of every stage, in order
   std::int64_t peak_rss_kib = 0;    ///< peak resident memory of the process, KiB
   std::uint64_t crossings = 0;
+  bool has_elevation = false;
+  TerrainReport terrain;  ///< filled when elevation inputs were given
   /// Lines for the user: defaults taken per tag, crossings, overrides that matched nothing.
   std::vector<std::string> notes;
 };

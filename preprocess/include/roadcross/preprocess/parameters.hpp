@@ -12,6 +12,7 @@
 #include "roadcross/preprocess/geometry_cost.hpp"
 #include "roadcross/preprocess/parameter_spec.hpp"
 #include "roadcross/preprocess/rank.hpp"
+#include "roadcross/preprocess/terrain.hpp"
 
 namespace roadcross::preprocess {
 
@@ -32,10 +33,10 @@ struct SuitabilityParameters {
 struct Parameters {
   SegmentParameters segments;
   GeometryParameters geometry;
+  TerrainParameters terrain;
   RankParameters rank;
   ContextParameters context;
   SuitabilityParameters suitability;
-  // Later sections (terrain, context, suitability) follow the same pattern.
 
   /// All parameters, pointing into this object. Order is stable (it is the file order).
   std::vector<ParameterSpec> specs();

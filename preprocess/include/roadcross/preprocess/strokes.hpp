@@ -29,4 +29,12 @@ struct Stroke {
 /// Every piece belongs to exactly one stroke.
 std::vector<Stroke> build_strokes(const RoadGraph& graph);
 
+/// Windowed mean along a stroke, for every segment of it (in stroke order): the
+/// length-weighted mean of `values` (one per stroke segment, in stroke order) over the road
+/// within +-half_length_m of the segment's midpoint, the segment itself counted `own_weight`
+/// times. NaN values are skipped; a window without any value gives NaN. On a ring the window
+/// continues past the closing point.
+std::vector<double> windowed_mean(const Stroke& stroke, const std::vector<double>& values,
+                                  double half_length_m, double own_weight);
+
 }  // namespace roadcross::preprocess

@@ -1,0 +1,130 @@
+// Terrain cost: slope and topographic position index (TPI) on the terrain grid, Weiss (2001)
+// landform classes, and per segment elevation_m, slope_deg, grade_percent, tpi_small_m,
+// tpi_large_m, landform, elevation_cost (0..9, windowed along the road) and the reasons
+// CREST_OR_DIP / NO_ELEVATION. docs/cost-model.md explains the method and its deviations.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "roadcross/preprocess/elevation_input.hpp"
+#include "roadcross/preprocess/parameter_spec.hpp"
+#include "roadcross/preprocess/segments.hpp"
+#include "roadcross/preprocess/terrain_grid.hpp"
+
+namespace roadcross::preprocess {
+
+class Progress;
+
+/// The ten landform classes of Weiss (2001), in his numbering order.
+enum class Landform : std::uint8_t {
+  canyon,             ///< small TPI low, large TPI low: canyons, deeply incised streams
+  midslope_drainage,  ///< small low, large normal: midslope drainages, shallow valleys
+  upland_drainage,    ///< small low, large high: upland drainages, headwaters
+  u_shaped_valley,    ///< small normal, large low
+  plains,             ///< small normal, large normal, slope <= flat_slope_deg
+  open_slope,         ///< small normal, large normal, slope > flat_slope_deg
+  upper_slope,        ///< small normal, large high: upper slopes, mesas
+  local_ridge,        ///< small high, large low: local ridges, hills in valleys
+  midslope_ridge,     ///< small high, large normal: midslope ridges, small hills in plains
+  mountain_top,       ///< small high, large high: mountain tops, high ridges
+};
+constexpr std::size_t kLandformCount = 10;
+
+/// snake_case name stored in the DB ("mountain_top", ...).
+std::string_view landform_name(Landform landform) noexcept;
+
+/// Ridges, tops, canyons and drainages: places where the road's profile bends enough to hide
+/// an approaching car (reason CREST_OR_DIP).
+bool is_crest_or_dip(Landform landform) noexcept;
+
+struct TerrainParameters {
+  /// Terrain grid cell size, metres.
+  double cell_size_m = 5.0;
+  /// TPI neighbourhoods: annuli between an inner and an outer radius, metres.
+  double tpi_small_inner_m = 10.0, tpi_small_outer_m = 50.0;
+  double tpi_large_inner_m = 100.0, tpi_large_outer_m = 300.0;
+  /// TPI is computed only where at least this share of the annulus has elevation.
+  double tpi_min_valid_fraction = 0.5;
+  /// Standardised TPI beyond +-this many standard deviations is "high" / "low" (Weiss: 1).
+  double standard_deviations = 1.0;
+  /// Smallest standard deviation used to standardise TPI, metres: in flat country the spread of
+  /// TPI is tiny and one standard deviation would call a 30 cm bump a ridge.
+  double tpi_small_min_sd_m = 1.0, tpi_large_min_sd_m = 3.0;
+  /// Plains vs open slopes, degrees (Weiss: 5).
+  double flat_slope_deg = 5.0;
+  /// A TIN triangle with a longer edge spans a gap in the points and is not interpolated, m.
+  double tin_max_edge_m = 100.0;
+  /// DEM voids are filled from valid cells at most this far away, metres.
+  double void_fill_max_m = 100.0;
+  /// Elevation cost window along the road (as curvature), metres, and own-segment weight.
+  double window_half_length_m = 100.0;
+  double own_segment_weight = 3.0;
+  /// Cost of each landform class (DESIGN.md), in Landform order; scaled to 0..9 by 9/15.
+  std::array<double, kLandformCount> landform_cost = {8, 5, 6, 2, 1, 3, 6, 8, 10, 15};
+
+  void describe(std::vector<ParameterSpec>& out);
+  /// Throws ParameterError when an inner radius is not below its outer radius.
+  void validate_relations() const;
+};
+
+/// Slope in degrees at every cell (Horn's 3x3 finite differences, as gdaldem); NaN where a
+/// neighbour has no elevation and at the grid's edge.
+Grid slope_degrees(const Grid& elevation);
+
+/// TPI at every cell: its elevation minus the mean elevation of the cells whose centres lie in
+/// the annulus inner_m < d <= outer_m (metres). Sums come from per-row prefix sums, so a cell
+/// costs O(outer_m / cell) and not O(area). NaN where the cell has no elevation or less than
+/// `min_valid_fraction` of the annulus has. Uses both cores.
+Grid topographic_position(const Grid& elevation, double inner_m, double outer_m,
+                          double min_valid_fraction);
+
+struct GridStatistics {
+  double mean = 0.0, standard_deviation = 0.0;
+  std::size_t count = 0;
+};
+GridStatistics statistics(const Grid& grid);
+
+/// Weiss's table: z_small and z_large are standardised TPI (in standard deviations).
+Landform classify_landform(double z_small, double z_large, double slope_deg,
+                           const TerrainParameters& parameters) noexcept;
+
+/// The terrain measures over one grid, ready to be sampled at any UTM point.
+struct TerrainModel {
+  Grid elevation, slope, tpi_small, tpi_large;
+  GridStatistics small_stats, large_stats;
+  double small_sd_used = 1.0, large_sd_used = 1.0;  ///< after the minimum-SD floors
+};
+TerrainModel analyse_terrain(Grid elevation, const TerrainParameters& parameters);
+
+struct TerrainInputs {
+  std::vector<ElevationSource>
+      sources;          ///< in the order given; earlier ones win where they overlap
+  std::string xyz_crs;  ///< CRS of the XYZ files; empty: detect S-JTSK
+};
+
+struct TerrainReport {
+  GridSpec grid;
+  std::size_t cells_with_elevation = 0;
+  std::size_t voids_filled = 0;
+  std::size_t xyz_points = 0;
+  std::string xyz_crs;  ///< as used (given or detected)
+  std::size_t segments_without_elevation = 0;
+  std::size_t structure_segments = 0;  ///< bridges and tunnels, elevation from their ends
+  std::vector<std::pair<std::string, std::size_t>> cells_per_source;
+};
+
+/// Builds the terrain grid from the inputs (covering the roads plus the largest TPI radius),
+/// analyses it, and fills the terrain fields of every segment. Throws InputError for an
+/// unreadable file or when no input overlaps the roads at all.
+TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
+                              const TerrainParameters& parameters, Progress& progress);
+
+/// The per-segment part of compute_terrain, on a ready model.
+void assign_terrain(RoadGraph& graph, const TerrainModel& model,
+                    const TerrainParameters& parameters);
+
+}  // namespace roadcross::preprocess

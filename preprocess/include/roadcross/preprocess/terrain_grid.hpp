@@ -1,0 +1,70 @@
+// The terrain model: a regular elevation grid in the DB's UTM zone, filled from TINs of XYZ
+// points (CGAL Delaunay, linear interpolation inside the hull) and from rasters (bilinear), with
+// DEM voids filled from valid neighbours within a limit. Every later terrain measure (slope,
+// TPI, landform) works on this grid, so 2D neighbourhood statistics are cheap.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "roadcross/geo.hpp"
+#include "roadcross/preprocess/elevation_input.hpp"
+
+namespace roadcross::preprocess {
+
+/// Cell (col, row) has its centre at (west_m + (col + 0.5) * cell_m, south_m + (row + 0.5) *
+/// cell_m) in UTM metres; row 0 is the southernmost.
+struct GridSpec {
+  geo::UtmZone zone;
+  double west_m = 0.0, south_m = 0.0;
+  double cell_m = 5.0;
+  std::size_t cols = 0, rows = 0;
+
+  double centre_easting(std::size_t col) const { return west_m + (double(col) + 0.5) * cell_m; }
+  double centre_northing(std::size_t row) const { return south_m + (double(row) + 0.5) * cell_m; }
+  double east_m() const { return west_m + double(cols) * cell_m; }
+  double north_m() const { return south_m + double(rows) * cell_m; }
+  std::size_t size() const { return cols * rows; }
+};
+
+/// The grid covering the box [min_e, max_e] x [min_n, max_n] (UTM metres) grown by `margin_m`
+/// on every side, its edges on multiples of `cell_m` (so that the same roads give the same grid).
+GridSpec grid_covering(const geo::UtmZone& zone, double min_e, double min_n, double max_e,
+                       double max_n, double margin_m, double cell_m);
+
+/// A float raster over a GridSpec; NaN marks "no value".
+struct Grid {
+  GridSpec spec;
+  std::vector<float> values;  ///< row-major, rows south to north
+
+  explicit Grid(const GridSpec& s)
+      : spec(s), values(s.size(), std::numeric_limits<float>::quiet_NaN()) {}
+  float at(std::size_t col, std::size_t row) const { return values[row * spec.cols + col]; }
+  float& at(std::size_t col, std::size_t row) { return values[row * spec.cols + col]; }
+  /// Bilinear between the four surrounding cell centres; NaN when outside the grid or when any
+  /// of the four is NaN.
+  double sample(double easting_m, double northing_m) const;
+  std::size_t count_valid() const;
+};
+
+/// Fills the NaN cells of `grid` from a raster file (any format and CRS GDAL knows; its nodata
+/// value respected): bilinear between the raster's pixel centres, NaN next to nodata or outside.
+/// Returns the number of cells filled. Throws InputError when GDAL cannot read the file or it
+/// has no CRS.
+std::size_t fill_from_raster(Grid& grid, const std::string& path);
+
+/// Fills the NaN cells of `grid` by linear interpolation on the Delaunay triangulation of
+/// `points` (UTM metres). Cells outside the convex hull, or in a triangle with an edge longer
+/// than `max_edge_m` (a gap in the data), stay NaN. Returns the number of cells filled.
+std::size_t fill_from_points(Grid& grid, const std::vector<ElevationPoint>& points_utm,
+                             double max_edge_m);
+
+/// Fills NaN cells that have valid cells within `max_distance_m` (DEM voids, e.g. SRTM along
+/// a coast): repeated passes each giving a NaN cell the mean of its valid 8-neighbours, at
+/// most max_distance_m / cell_m passes. Cells farther from data stay NaN. Returns cells filled.
+std::size_t fill_voids(Grid& grid, double max_distance_m);
+
+}  // namespace roadcross::preprocess

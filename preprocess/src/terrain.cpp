@@ -1,0 +1,518 @@
+#include "roadcross/preprocess/terrain.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <thread>
+
+#include "roadcross/preprocess/errors.hpp"
+#include "roadcross/preprocess/progress.hpp"
+#include "roadcross/preprocess/strokes.hpp"
+
+namespace roadcross::preprocess {
+
+namespace {
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kRadToDeg = 180.0 / std::numbers::pi;
+
+constexpr std::array<std::string_view, kLandformCount> kLandformNames = {
+    "canyon",     "midslope_drainage", "upland_drainage", "u_shaped_valley", "plains",
+    "open_slope", "upper_slope",       "local_ridge",     "midslope_ridge",  "mountain_top"};
+}  // namespace
+
+std::string_view landform_name(Landform landform) noexcept {
+  return kLandformNames[static_cast<std::size_t>(landform)];
+}
+
+bool is_crest_or_dip(Landform landform) noexcept {
+  switch (landform) {
+    case Landform::canyon:
+    case Landform::midslope_drainage:
+    case Landform::upland_drainage:
+    case Landform::local_ridge:
+    case Landform::midslope_ridge:
+    case Landform::mountain_top:
+      return true;
+    default:
+      return false;
+  }
+}
+
+void TerrainParameters::describe(std::vector<ParameterSpec>& out) {
+  const std::string s = "terrain";
+  out.push_back({s, "cell_size_m", &cell_size_m, 0.5, 100, false,
+                 "terrain grid cell size in the DB's UTM zone, metres"});
+  out.push_back({s, "tpi_small_inner_m", &tpi_small_inner_m, 0, 10000, false,
+                 "small TPI annulus: inner radius, metres"});
+  out.push_back({s, "tpi_small_outer_m", &tpi_small_outer_m, 1, 10000, false,
+                 "small TPI annulus: outer radius, metres"});
+  out.push_back({s, "tpi_large_inner_m", &tpi_large_inner_m, 0, 10000, false,
+                 "large TPI annulus: inner radius, metres"});
+  out.push_back({s, "tpi_large_outer_m", &tpi_large_outer_m, 1, 10000, false,
+                 "large TPI annulus: outer radius, metres"});
+  out.push_back({s, "tpi_min_valid_fraction", &tpi_min_valid_fraction, 0.01, 1, false,
+                 "TPI only where at least this share of the annulus has elevation"});
+  out.push_back({s, "standard_deviations", &standard_deviations, 0.1, 10, false,
+                 "standardised TPI beyond +-this is high/low (Weiss 2001: 1)"});
+  out.push_back({s, "tpi_small_min_sd_m", &tpi_small_min_sd_m, 0.01, 1000, false,
+                 "smallest standard deviation used to standardise the small TPI, metres"});
+  out.push_back({s, "tpi_large_min_sd_m", &tpi_large_min_sd_m, 0.01, 1000, false,
+                 "smallest standard deviation used to standardise the large TPI, metres"});
+  out.push_back({s, "flat_slope_deg", &flat_slope_deg, 0, 90, false,
+                 "plains up to this slope, open slopes above, degrees (Weiss 2001: 5)"});
+  out.push_back({s, "tin_max_edge_m", &tin_max_edge_m, 1, 100000, false,
+                 "XYZ points: TIN triangles with a longer edge span a gap, metres"});
+  out.push_back({s, "void_fill_max_m", &void_fill_max_m, 0, 10000, false,
+                 "DEM voids are filled from valid cells at most this far away, metres"});
+  out.push_back({s, "window_half_length_m", &window_half_length_m, 0, 10000, false,
+                 "elevation cost window: this far along the road each way, metres"});
+  out.push_back({s, "own_segment_weight", &own_segment_weight, 0, 1000, false,
+                 "the segment itself counts this many times in its window"});
+  for (std::size_t i = 0; i < kLandformCount; ++i) {
+    out.push_back({s, "cost_" + std::string(kLandformNames[i]), &landform_cost[i], 0, 15, false,
+                   "landform cost of " + std::string(kLandformNames[i]) + " (0..15)"});
+  }
+}
+
+void TerrainParameters::validate_relations() const {
+  if (tpi_small_inner_m >= tpi_small_outer_m) {
+    throw ParameterError("terrain.tpi_small_inner_m must be below terrain.tpi_small_outer_m");
+  }
+  if (tpi_large_inner_m >= tpi_large_outer_m) {
+    throw ParameterError("terrain.tpi_large_inner_m must be below terrain.tpi_large_outer_m");
+  }
+  if (tpi_small_outer_m < cell_size_m || tpi_large_outer_m < cell_size_m) {
+    throw ParameterError("the TPI outer radii must be at least terrain.cell_size_m");
+  }
+}
+
+Grid slope_degrees(const Grid& elevation) {
+  const GridSpec& s = elevation.spec;
+  Grid slope(s);
+  if (s.cols < 3 || s.rows < 3) return slope;
+  for (std::size_t row = 1; row + 1 < s.rows; ++row) {
+    for (std::size_t col = 1; col + 1 < s.cols; ++col) {
+      // Horn (1981): rows south to north, so "north" is row + 1.
+      const double a = elevation.at(col - 1, row + 1), b = elevation.at(col, row + 1),
+                   c = elevation.at(col + 1, row + 1);
+      const double d = elevation.at(col - 1, row), f = elevation.at(col + 1, row);
+      const double g = elevation.at(col - 1, row - 1), h = elevation.at(col, row - 1),
+                   i = elevation.at(col + 1, row - 1);
+      const double dz_de = ((c + 2 * f + i) - (a + 2 * d + g)) / (8 * s.cell_m);
+      const double dz_dn = ((a + 2 * b + c) - (g + 2 * h + i)) / (8 * s.cell_m);
+      slope.at(col, row) = static_cast<float>(std::atan(std::hypot(dz_de, dz_dn)) * kRadToDeg);
+    }
+  }
+  return slope;  // NaN propagates from any NaN neighbour
+}
+
+namespace {
+
+/// Sums and valid-cell counts of blocks of factor x factor cells (factor 1: the cells).
+struct BlockSums {
+  std::size_t cols = 0, rows = 0;
+  std::vector<double> sum;
+  std::vector<std::uint32_t> count;
+
+  BlockSums(const Grid& grid, std::size_t factor)
+      : cols((grid.spec.cols + factor - 1) / factor),
+        rows((grid.spec.rows + factor - 1) / factor),
+        sum(cols * rows, 0.0),
+        count(cols * rows, 0) {
+    for (std::size_t row = 0; row < grid.spec.rows; ++row) {
+      for (std::size_t col = 0; col < grid.spec.cols; ++col) {
+        const float v = grid.at(col, row);
+        if (std::isnan(v)) continue;
+        const std::size_t k = (row / factor) * cols + col / factor;
+        sum[k] += v;
+        ++count[k];
+      }
+    }
+  }
+};
+
+/// Per-row prefix sums of block sums and counts: row r, columns [a, b) sum to
+/// sum[r * stride + b] - sum[r * stride + a].
+struct RowPrefixSums {
+  std::size_t cols, rows, stride;
+  std::vector<double> sum;
+  std::vector<std::uint64_t> count;
+
+  explicit RowPrefixSums(const BlockSums& blocks)
+      : cols(blocks.cols),
+        rows(blocks.rows),
+        stride(blocks.cols + 1),
+        sum(blocks.rows * stride, 0.0),
+        count(blocks.rows * stride, 0) {
+    for (std::size_t row = 0; row < rows; ++row) {
+      for (std::size_t col = 0; col < cols; ++col) {
+        sum[row * stride + col + 1] = sum[row * stride + col] + blocks.sum[row * cols + col];
+        count[row * stride + col + 1] = count[row * stride + col] + blocks.count[row * cols + col];
+      }
+    }
+  }
+};
+
+/// Half-width in blocks of each row offset of a disc of radius `radius` (blocks whose centre
+/// is within the radius; radius 0 still holds the centre block).
+std::vector<long> disc_half_widths(double radius) {
+  const auto r = static_cast<long>(std::floor(radius + 1e-9));
+  std::vector<long> half(static_cast<std::size_t>(2 * r + 1));
+  for (long dy = -r; dy <= r; ++dy) {
+    const double w2 = radius * radius - double(dy * dy);
+    half[static_cast<std::size_t>(dy + r)] = static_cast<long>(std::floor(std::sqrt(w2) + 1e-9));
+  }
+  return half;
+}
+
+/// Sum and count of valid cells in the disc around block (col, row).
+void disc_sum(const RowPrefixSums& p, const std::vector<long>& half, long col, long row,
+              double& sum, std::uint64_t& count) {
+  const long r = static_cast<long>(half.size() / 2);
+  const long rows = static_cast<long>(p.rows), cols = static_cast<long>(p.cols);
+  for (long dy = -r; dy <= r; ++dy) {
+    const long y = row + dy;
+    if (y < 0 || y >= rows) continue;
+    const long w = half[static_cast<std::size_t>(dy + r)];
+    const auto x0 = static_cast<std::size_t>(std::max(0L, col - w));
+    const auto x1 = static_cast<std::size_t>(std::min(cols, col + w + 1));
+    if (x1 <= x0) continue;
+    const std::size_t base = static_cast<std::size_t>(y) * p.stride;
+    sum += p.sum[base + x1] - p.sum[base + x0];
+    count += p.count[base + x1] - p.count[base + x0];
+  }
+}
+
+std::uint64_t disc_cell_count(const std::vector<long>& half) {
+  std::uint64_t n = 0;
+  for (const long w : half) n += static_cast<std::uint64_t>(2 * w + 1);
+  return n;
+}
+
+/// Runs body(row) for every row, interleaved over two threads (each writes its own rows).
+template <typename Body>
+void for_rows_on_two_cores(std::size_t rows, const Body& body) {
+  std::thread other([&] {
+    for (std::size_t row = 1; row < rows; row += 2) body(row);
+  });
+  for (std::size_t row = 0; row < rows; row += 2) body(row);
+  other.join();
+}
+
+/// Cells per block for an annulus of outer radius `outer_cells`: the annulus mean is a smooth
+/// function of position, so beyond ~20 cells of radius it is computed on blocks of cells and
+/// interpolated, which keeps the cost per cell bounded whatever the radius.
+std::size_t block_factor(double outer_cells) {
+  constexpr double kBlocksPerRadius = 20.0;
+  return std::max<std::size_t>(1, static_cast<std::size_t>(outer_cells / kBlocksPerRadius));
+}
+
+}  // namespace
+
+Grid topographic_position(const Grid& elevation, double inner_m, double outer_m,
+                          double min_valid_fraction) {
+  const GridSpec& s = elevation.spec;
+  const std::size_t factor = block_factor(outer_m / s.cell_m);
+  const BlockSums blocks(elevation, factor);
+  const RowPrefixSums prefix(blocks);
+  const double block_m = s.cell_m * double(factor);
+  const std::vector<long> outer = disc_half_widths(outer_m / block_m);
+  const std::vector<long> inner = disc_half_widths(inner_m / block_m);
+  const double full_annulus =
+      double(disc_cell_count(outer) - disc_cell_count(inner)) * double(factor * factor);
+
+  // The annulus mean at every block centre (NaN where too little of it has elevation).
+  GridSpec block_spec = s;
+  block_spec.cell_m = block_m;
+  block_spec.cols = blocks.cols;
+  block_spec.rows = blocks.rows;
+  Grid annulus_mean(block_spec);
+  for_rows_on_two_cores(blocks.rows, [&](std::size_t row) {
+    for (std::size_t col = 0; col < blocks.cols; ++col) {
+      double outer_sum = 0.0, inner_sum = 0.0;
+      std::uint64_t outer_n = 0, inner_n = 0;
+      disc_sum(prefix, outer, long(col), long(row), outer_sum, outer_n);
+      disc_sum(prefix, inner, long(col), long(row), inner_sum, inner_n);
+      const std::uint64_t n = outer_n - inner_n;
+      if (n == 0 || double(n) < min_valid_fraction * full_annulus) continue;
+      annulus_mean.at(col, row) = static_cast<float>((outer_sum - inner_sum) / double(n));
+    }
+  });
+
+  Grid tpi(s);
+  for_rows_on_two_cores(s.rows, [&](std::size_t row) {
+    for (std::size_t col = 0; col < s.cols; ++col) {
+      const float z = elevation.at(col, row);
+      if (std::isnan(z)) continue;
+      double mean = annulus_mean.at(col / factor, row / factor);
+      if (factor > 1) {
+        // Between block centres: bilinear; next to a block without a mean, the own block's.
+        const double between = annulus_mean.sample(s.centre_easting(col), s.centre_northing(row));
+        if (!std::isnan(between)) mean = between;
+      }
+      if (!std::isnan(mean)) tpi.at(col, row) = static_cast<float>(z - mean);
+    }
+  });
+  return tpi;
+}
+
+GridStatistics statistics(const Grid& grid) {
+  GridStatistics out;
+  double sum = 0.0, sum_sq = 0.0;
+  for (const float v : grid.values) {
+    if (std::isnan(v)) continue;
+    sum += v, sum_sq += double(v) * v, ++out.count;
+  }
+  if (out.count == 0) return out;
+  out.mean = sum / double(out.count);
+  out.standard_deviation =
+      std::sqrt(std::max(0.0, sum_sq / double(out.count) - out.mean * out.mean));
+  return out;
+}
+
+Landform classify_landform(double z_small, double z_large, double slope_deg,
+                           const TerrainParameters& p) noexcept {
+  const double k = p.standard_deviations;
+  const int small = z_small <= -k ? 0 : (z_small >= k ? 2 : 1);
+  const int large = z_large <= -k ? 0 : (z_large >= k ? 2 : 1);
+  static constexpr Landform table[3][3] = {
+      {Landform::canyon, Landform::midslope_drainage, Landform::upland_drainage},
+      {Landform::u_shaped_valley, Landform::plains, Landform::upper_slope},
+      {Landform::local_ridge, Landform::midslope_ridge, Landform::mountain_top}};
+  const Landform landform = table[small][large];
+  if (landform == Landform::plains && slope_deg > p.flat_slope_deg) return Landform::open_slope;
+  return landform;
+}
+
+TerrainModel analyse_terrain(Grid elevation, const TerrainParameters& p) {
+  TerrainModel m{
+      std::move(elevation), Grid(GridSpec{}), Grid(GridSpec{}), Grid(GridSpec{}), {}, {}, 1.0, 1.0};
+  m.slope = slope_degrees(m.elevation);
+  m.tpi_small = topographic_position(m.elevation, p.tpi_small_inner_m, p.tpi_small_outer_m,
+                                     p.tpi_min_valid_fraction);
+  m.tpi_large = topographic_position(m.elevation, p.tpi_large_inner_m, p.tpi_large_outer_m,
+                                     p.tpi_min_valid_fraction);
+  m.small_stats = statistics(m.tpi_small);
+  m.large_stats = statistics(m.tpi_large);
+  m.small_sd_used = std::max(m.small_stats.standard_deviation, p.tpi_small_min_sd_m);
+  m.large_sd_used = std::max(m.large_stats.standard_deviation, p.tpi_large_min_sd_m);
+  return m;
+}
+
+namespace {
+
+PlanePoint point_along(const std::vector<PlanePoint>& line, double distance_m) {
+  for (std::size_t i = 1; i < line.size(); ++i) {
+    const double d = std::hypot(line[i].x - line[i - 1].x, line[i].y - line[i - 1].y);
+    if (distance_m <= d || i + 1 == line.size()) {
+      const double t = d > 0.0 ? std::clamp(distance_m / d, 0.0, 1.0) : 0.0;
+      return {line[i - 1].x + t * (line[i].x - line[i - 1].x),
+              line[i - 1].y + t * (line[i].y - line[i - 1].y)};
+    }
+    distance_m -= d;
+  }
+  return line.front();
+}
+
+std::optional<double> finite(double v) {
+  return std::isfinite(v) ? std::optional<double>(v) : std::nullopt;
+}
+
+/// Elevation along a run of bridge/tunnel segments of a stroke, interpolated between the
+/// run's two ends (the structure's abutments or portals, which are on the ground).
+void assign_structure_run(RoadGraph& graph, const Stroke& stroke, std::size_t first,
+                          std::size_t last, const Grid& elevation) {
+  const StrokeSegment& a = stroke.segments[first];
+  const StrokeSegment& b = stroke.segments[last];
+  const Segment& sa = graph.segments[a.segment];
+  const Segment& sb = graph.segments[b.segment];
+  const PlanePoint start = a.reversed ? sa.points.back() : sa.points.front();
+  const PlanePoint end = b.reversed ? sb.points.front() : sb.points.back();
+  double z0 = elevation.sample(start.x, start.y), z1 = elevation.sample(end.x, end.y);
+  if (std::isnan(z0)) z0 = z1;
+  if (std::isnan(z1)) z1 = z0;
+  const double run_length = b.end_m - a.start_m;
+  for (std::size_t i = first; i <= last; ++i) {
+    const StrokeSegment& ss = stroke.segments[i];
+    Segment& s = graph.segments[ss.segment];
+    if (std::isnan(z0)) continue;  // neither end has elevation: NO_ELEVATION
+    const double t =
+        run_length > 0.0 ? (0.5 * (ss.start_m + ss.end_m) - a.start_m) / run_length : 0.5;
+    const double grade_along_stroke = run_length > 0.0 ? (z1 - z0) / run_length : 0.0;
+    s.elevation_m = z0 + t * (z1 - z0);
+    s.grade_percent = 100.0 * (ss.reversed ? -grade_along_stroke : grade_along_stroke);
+    s.slope_deg = std::atan(std::abs(grade_along_stroke)) * kRadToDeg;
+    s.landform = s.tunnel ? "tunnel" : "bridge";
+  }
+}
+
+}  // namespace
+
+void assign_terrain(RoadGraph& graph, const TerrainModel& m, const TerrainParameters& p) {
+  // The landform cost at each segment (NaN: unknown or a structure), for the windows.
+  std::vector<double> landform_cost(graph.segments.size(), kNaN);
+  for (std::size_t i = 0; i < graph.segments.size(); ++i) {
+    Segment& s = graph.segments[i];
+    if (s.bridge || s.tunnel) continue;  // elevation from the structure's ends, below
+    const PlanePoint mid = point_along(s.points, 0.5 * s.length_m);
+    s.elevation_m = finite(m.elevation.sample(mid.x, mid.y));
+    if (!s.elevation_m) continue;
+    s.slope_deg = finite(m.slope.sample(mid.x, mid.y));
+    const double z_start = m.elevation.sample(s.points.front().x, s.points.front().y);
+    const double z_end = m.elevation.sample(s.points.back().x, s.points.back().y);
+    if (s.length_m > 0.0) s.grade_percent = finite(100.0 * (z_end - z_start) / s.length_m);
+    s.tpi_small_m = finite(m.tpi_small.sample(mid.x, mid.y));
+    s.tpi_large_m = finite(m.tpi_large.sample(mid.x, mid.y));
+    if (!s.tpi_small_m || !s.tpi_large_m) continue;
+    const Landform landform = classify_landform(
+        (*s.tpi_small_m - m.small_stats.mean) / m.small_sd_used,
+        (*s.tpi_large_m - m.large_stats.mean) / m.large_sd_used, s.slope_deg.value_or(0.0), p);
+    s.landform = std::string(landform_name(landform));
+    landform_cost[i] = p.landform_cost[static_cast<std::size_t>(landform)];
+    if (is_crest_or_dip(landform)) s.reasons.emplace_back("CREST_OR_DIP");
+  }
+  for (const Stroke& stroke : build_strokes(graph)) {
+    // Bridges and tunnels: runs of consecutive structure segments along the stroke.
+    for (std::size_t i = 0; i < stroke.segments.size();) {
+      const auto is_structure = [&](std::size_t k) {
+        const Segment& s = graph.segments[stroke.segments[k].segment];
+        return s.bridge || s.tunnel;
+      };
+      if (!is_structure(i)) {
+        ++i;
+        continue;
+      }
+      std::size_t last = i;
+      while (last + 1 < stroke.segments.size() && is_structure(last + 1)) ++last;
+      assign_structure_run(graph, stroke, i, last, m.elevation);
+      i = last + 1;
+    }
+    std::vector<double> costs;
+    costs.reserve(stroke.segments.size());
+    for (const StrokeSegment& ss : stroke.segments) costs.push_back(landform_cost[ss.segment]);
+    const std::vector<double> mean =
+        windowed_mean(stroke, costs, p.window_half_length_m, p.own_segment_weight);
+    for (std::size_t k = 0; k < stroke.segments.size(); ++k) {
+      Segment& s = graph.segments[stroke.segments[k].segment];
+      if (!s.elevation_m) continue;
+      if (std::isnan(mean[k])) {
+        // A structure with no ground in its window: its profile is a straight line between
+        // its ends, which hides nothing (the cost of plains would floor to 0 as well).
+        if (s.bridge || s.tunnel) s.elevation_cost = 0;
+        continue;
+      }
+      // Landform costs run 0..15; the elevation cost 0..9 as in the thesis' rank formula.
+      const double cost = std::floor(mean[k] * 9.0 / 15.0 + 1e-9);
+      s.elevation_cost = static_cast<int>(std::clamp(cost, 0.0, 9.0));
+    }
+  }
+  for (Segment& s : graph.segments) {
+    if (!s.elevation_cost) s.reasons.emplace_back("NO_ELEVATION");
+  }
+}
+
+namespace {
+
+/// Every road point's UTM bounding box.
+void road_bounds(const RoadGraph& graph, double& min_e, double& min_n, double& max_e,
+                 double& max_n) {
+  min_e = min_n = std::numeric_limits<double>::infinity();
+  max_e = max_n = -std::numeric_limits<double>::infinity();
+  for (const Segment& s : graph.segments) {
+    for (const PlanePoint& q : s.points) {
+      min_e = std::min(min_e, q.x), max_e = std::max(max_e, q.x);
+      min_n = std::min(min_n, q.y), max_n = std::max(max_n, q.y);
+    }
+  }
+}
+
+std::size_t fill_from_xyz_files(Grid& grid, const std::vector<const ElevationSource*>& files,
+                                const std::string& crs_given, const TerrainParameters& p,
+                                TerrainReport& report) {
+  std::vector<ElevationPoint> points;
+  for (const ElevationSource* source : files) {
+    std::vector<ElevationPoint> file_points = read_xyz(source->path);
+    const std::string crs =
+        crs_given.empty() ? detect_xyz_crs(source->path, file_points) : crs_given;
+    if (!report.xyz_crs.empty() && report.xyz_crs != crs) {
+      throw InputError(source->path, "its points look like " + crs +
+                                         " but an earlier XYZ file's "
+                                         "like " +
+                                         report.xyz_crs + "; give --elevation-crs");
+    }
+    report.xyz_crs = crs;
+    const CrsTransform transform(crs, grid.spec.zone);
+    std::vector<double> x(file_points.size()), y(file_points.size());
+    for (std::size_t i = 0; i < file_points.size(); ++i)
+      x[i] = file_points[i].x, y[i] = file_points[i].y;
+    transform.to_utm(x, y);
+    for (std::size_t i = 0; i < file_points.size(); ++i) {
+      if (std::isnan(x[i])) continue;
+      points.push_back({x[i], y[i], file_points[i].z});
+    }
+  }
+  report.xyz_points = points.size();
+  return fill_from_points(grid, points, p.tin_max_edge_m);
+}
+
+}  // namespace
+
+TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
+                              const TerrainParameters& p, Progress& progress) {
+  TerrainReport report;
+  double min_e, min_n, max_e, max_n;
+  road_bounds(graph, min_e, min_n, max_e, max_n);
+  // The grid reaches one large TPI radius beyond the roads so that road cells see whole annuli.
+  const GridSpec spec = grid_covering(graph.zone, min_e, min_n, max_e, max_n,
+                                      p.tpi_large_outer_m + p.cell_size_m, p.cell_size_m);
+  report.grid = spec;
+  Grid elevation(spec);
+
+  progress.start_stage("terrain grid");
+  // In the order given; all XYZ files form one TIN, filled at the place of the first of them.
+  std::vector<const ElevationSource*> xyz_files;
+  for (const ElevationSource& s : inputs.sources) {
+    if (s.kind == ElevationKind::xyz) xyz_files.push_back(&s);
+  }
+  bool xyz_done = false;
+  for (const ElevationSource& source : inputs.sources) {
+    std::size_t filled = 0;
+    if (source.kind == ElevationKind::raster) {
+      filled = fill_from_raster(elevation, source.path);
+    } else if (!xyz_done) {
+      filled = fill_from_xyz_files(elevation, xyz_files, inputs.xyz_crs, p, report);
+      xyz_done = true;
+    } else {
+      continue;
+    }
+    report.cells_per_source.emplace_back(source.path, filled);
+  }
+  report.cells_with_elevation = elevation.count_valid();
+  if (report.cells_with_elevation == 0) {
+    std::string files;
+    for (const ElevationSource& s : inputs.sources) files += (files.empty() ? "" : ", ") + s.path;
+    throw InputError(files,
+                     "the elevation data does not overlap the roads of the OSM extract at "
+                     "all (wrong file, or wrong --elevation-crs?)");
+  }
+  report.voids_filled = fill_voids(elevation, p.void_fill_max_m);
+  report.cells_with_elevation += report.voids_filled;
+  progress.finish_stage(std::to_string(spec.cols) + " x " + std::to_string(spec.rows) +
+                        " cells of " + format_number(spec.cell_m) + " m, " +
+                        std::to_string(report.voids_filled) + " void cells filled");
+
+  progress.start_stage("terrain analysis");
+  const TerrainModel model = analyse_terrain(std::move(elevation), p);
+  assign_terrain(graph, model, p);
+  for (const Segment& s : graph.segments) {
+    report.segments_without_elevation += s.elevation_cost ? 0 : 1;
+    report.structure_segments += (s.bridge || s.tunnel) ? 1 : 0;
+  }
+  progress.finish_stage(std::to_string(graph.segments.size() - report.segments_without_elevation) +
+                        " segments with elevation, " +
+                        std::to_string(report.segments_without_elevation) + " without");
+  return report;
+}
+
+}  // namespace roadcross::preprocess

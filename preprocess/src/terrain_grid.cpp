@@ -1,0 +1,308 @@
+#include "roadcross/preprocess/terrain_grid.hpp"
+
+#include <CGAL/Delaunay_triangulation_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
+#include <cpl_error.h>
+#include <gdal_priv.h>
+#include <ogr_spatialref.h>
+
+#include <algorithm>
+#include <array>
+#include <memory>
+#include <utility>
+
+#include "roadcross/preprocess/errors.hpp"
+
+namespace roadcross::preprocess {
+
+GridSpec grid_covering(const geo::UtmZone& zone, double min_e, double min_n, double max_e,
+                       double max_n, double margin_m, double cell_m) {
+  GridSpec spec;
+  spec.zone = zone;
+  spec.cell_m = cell_m;
+  spec.west_m = std::floor((min_e - margin_m) / cell_m) * cell_m;
+  spec.south_m = std::floor((min_n - margin_m) / cell_m) * cell_m;
+  spec.cols = static_cast<std::size_t>(std::ceil((max_e + margin_m - spec.west_m) / cell_m));
+  spec.rows = static_cast<std::size_t>(std::ceil((max_n + margin_m - spec.south_m) / cell_m));
+  return spec;
+}
+
+double Grid::sample(double easting_m, double northing_m) const {
+  const double fx = (easting_m - spec.west_m) / spec.cell_m - 0.5;
+  const double fy = (northing_m - spec.south_m) / spec.cell_m - 0.5;
+  if (!(fx >= 0.0 && fy >= 0.0)) return std::numeric_limits<double>::quiet_NaN();
+  auto col = static_cast<std::size_t>(fx), row = static_cast<std::size_t>(fy);
+  // The last row/column centre itself is inside: interpolate in the cell below/left of it.
+  if (col + 1 == spec.cols && fx == double(col)) --col;
+  if (row + 1 == spec.rows && fy == double(row)) --row;
+  if (col + 1 >= spec.cols || row + 1 >= spec.rows) return std::numeric_limits<double>::quiet_NaN();
+  const double tx = fx - double(col), ty = fy - double(row);
+  const double z00 = at(col, row), z10 = at(col + 1, row);
+  const double z01 = at(col, row + 1), z11 = at(col + 1, row + 1);
+  return (z00 * (1 - tx) + z10 * tx) * (1 - ty) + (z01 * (1 - tx) + z11 * tx) * ty;
+}
+
+std::size_t Grid::count_valid() const {
+  return static_cast<std::size_t>(
+      std::count_if(values.begin(), values.end(), [](float v) { return !std::isnan(v); }));
+}
+
+namespace {
+
+struct GdalDatasetCloser {
+  void operator()(GDALDataset* d) const { GDALClose(d); }
+};
+
+std::string gdal_message() {
+  const char* message = CPLGetLastErrorMsg();
+  return message && *message ? std::string(" (GDAL: ") + message + ")" : std::string();
+}
+
+/// Raster coordinates (fractional pixel column/row of pixel centres) of every grid cell centre.
+/// PROJ is called on a lattice of every kStep-th cell only and the rest interpolated linearly:
+/// over kStep * cell_m (80 m by default) the transformation is linear to well below a millimetre.
+void raster_coordinates(const GridSpec& spec, OGRCoordinateTransformation& utm_to_raster,
+                        const std::array<double, 6>& inverse_geotransform, std::vector<float>& px,
+                        std::vector<float>& py) {
+  constexpr std::size_t kStep = 16;
+  const std::size_t lattice_cols = (spec.cols + kStep - 1) / kStep + 1;
+  const std::size_t lattice_rows = (spec.rows + kStep - 1) / kStep + 1;
+  std::vector<double> lx(lattice_cols * lattice_rows), ly(lx.size());
+  for (std::size_t j = 0; j < lattice_rows; ++j) {
+    for (std::size_t i = 0; i < lattice_cols; ++i) {
+      lx[j * lattice_cols + i] = spec.centre_easting(i * kStep);
+      ly[j * lattice_cols + i] = spec.centre_northing(j * kStep);
+    }
+  }
+  std::vector<int> ok(lx.size(), 0);
+  CPLPushErrorHandler(CPLQuietErrorHandler);
+  utm_to_raster.Transform(static_cast<int>(lx.size()), lx.data(), ly.data(), nullptr, ok.data());
+  CPLPopErrorHandler();
+  const auto& g = inverse_geotransform;
+  std::vector<double> lpx(lx.size()), lpy(lx.size());
+  for (std::size_t k = 0; k < lx.size(); ++k) {
+    const bool good = ok[k] && std::isfinite(lx[k]) && std::isfinite(ly[k]);
+    lpx[k] = good ? g[0] + g[1] * lx[k] + g[2] * ly[k] - 0.5 : std::nan("");
+    lpy[k] = good ? g[3] + g[4] * lx[k] + g[5] * ly[k] - 0.5 : std::nan("");
+  }
+  px.assign(spec.size(), 0.0f);
+  py.assign(spec.size(), 0.0f);
+  for (std::size_t row = 0; row < spec.rows; ++row) {
+    const std::size_t j = row / kStep;
+    const double ty = double(row - j * kStep) / kStep;
+    for (std::size_t col = 0; col < spec.cols; ++col) {
+      const std::size_t i = col / kStep;
+      const double tx = double(col - i * kStep) / kStep;
+      const auto lerp2 = [&](const std::vector<double>& v) {
+        const double a = v[j * lattice_cols + i], b = v[j * lattice_cols + i + 1];
+        const double c = v[(j + 1) * lattice_cols + i], d = v[(j + 1) * lattice_cols + i + 1];
+        return (a * (1 - tx) + b * tx) * (1 - ty) + (c * (1 - tx) + d * tx) * ty;
+      };
+      px[row * spec.cols + col] = static_cast<float>(lerp2(lpx));
+      py[row * spec.cols + col] = static_cast<float>(lerp2(lpy));
+    }
+  }
+}
+
+}  // namespace
+
+std::size_t fill_from_raster(Grid& grid, const std::string& path) {
+  GDALAllRegister();
+  // GDAL's messages go into our errors (which name the file), not raw onto stderr.
+  CPLPushErrorHandler(CPLQuietErrorHandler);
+  struct PopHandler {
+    ~PopHandler() { CPLPopErrorHandler(); }
+  } pop_handler;
+  CPLErrorReset();
+  std::unique_ptr<GDALDataset, GdalDatasetCloser> dataset(
+      static_cast<GDALDataset*>(GDALOpen(path.c_str(), GA_ReadOnly)));
+  if (!dataset) throw InputError(path, "GDAL cannot read this elevation raster" + gdal_message());
+  if (dataset->GetRasterCount() < 1) throw InputError(path, "the raster has no band");
+  const OGRSpatialReference* raster_crs = dataset->GetSpatialRef();
+  if (!raster_crs) {
+    throw InputError(path,
+                     "the raster has no coordinate system (georeference it, e.g. with "
+                     "gdal_translate -a_srs)");
+  }
+  std::array<double, 6> geotransform{}, inverse{};
+  if (dataset->GetGeoTransform(geotransform.data()) != CE_None ||
+      !GDALInvGeoTransform(geotransform.data(), inverse.data())) {
+    throw InputError(path, "the raster has no usable geotransform");
+  }
+  OGRSpatialReference utm, raster = *raster_crs;
+  utm.importFromEPSG(grid.spec.zone.epsg());
+  utm.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  raster.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  std::unique_ptr<OGRCoordinateTransformation> to_raster(
+      OGRCreateCoordinateTransformation(&utm, &raster));
+  if (!to_raster) throw InputError(path, "no transformation from UTM to the raster's CRS");
+
+  std::vector<float> px, py;
+  raster_coordinates(grid.spec, *to_raster, inverse, px, py);
+
+  // Read only the window of the raster that the grid touches.
+  const int width = dataset->GetRasterXSize(), height = dataset->GetRasterYSize();
+  double min_px = width, min_py = height, max_px = -1, max_py = -1;
+  for (std::size_t k = 0; k < px.size(); ++k) {
+    if (std::isnan(px[k])) continue;
+    min_px = std::min<double>(min_px, px[k]), max_px = std::max<double>(max_px, px[k]);
+    min_py = std::min<double>(min_py, py[k]), max_py = std::max<double>(max_py, py[k]);
+  }
+  const int x0 = std::max(0, static_cast<int>(std::floor(min_px)));
+  const int y0 = std::max(0, static_cast<int>(std::floor(min_py)));
+  const int x1 = std::min(width - 1, static_cast<int>(std::floor(max_px)) + 1);
+  const int y1 = std::min(height - 1, static_cast<int>(std::floor(max_py)) + 1);
+  if (x1 < x0 || y1 < y0) return 0;  // the raster does not reach the grid
+  const int window_w = x1 - x0 + 1, window_h = y1 - y0 + 1;
+  std::vector<float> pixels(static_cast<std::size_t>(window_w) * window_h);
+  GDALRasterBand* band = dataset->GetRasterBand(1);
+  if (band->RasterIO(GF_Read, x0, y0, window_w, window_h, pixels.data(), window_w, window_h,
+                     GDT_Float32, 0, 0) != CE_None) {
+    throw InputError(path, "cannot read the raster's pixels (truncated file?)" + gdal_message());
+  }
+  int has_nodata = 0;
+  const double nodata = band->GetNoDataValue(&has_nodata);
+  int has_scale = 0, has_offset = 0;
+  const double scale = band->GetScale(&has_scale), offset = band->GetOffset(&has_offset);
+  for (float& v : pixels) {
+    if ((has_nodata &&
+         (v == static_cast<float>(nodata) || (std::isnan(nodata) && std::isnan(v)))) ||
+        !std::isfinite(v)) {
+      v = std::numeric_limits<float>::quiet_NaN();
+    } else {
+      v = static_cast<float>(v * (has_scale ? scale : 1.0) + (has_offset ? offset : 0.0));
+    }
+  }
+
+  std::size_t filled = 0;
+  for (std::size_t k = 0; k < grid.values.size(); ++k) {
+    if (!std::isnan(grid.values[k]) || std::isnan(px[k])) continue;
+    const double fx = double(px[k]) - x0, fy = double(py[k]) - y0;
+    if (fx < 0.0 || fy < 0.0 || fx > window_w - 1 || fy > window_h - 1) continue;
+    const int c = std::min(static_cast<int>(fx), window_w - 2);
+    const int r = std::min(static_cast<int>(fy), window_h - 2);
+    if (c < 0 || r < 0) continue;  // a one-pixel-wide window
+    const double tx = fx - c, ty = fy - r;
+    const auto pixel = [&](int cc, int rr) {
+      return double(pixels[static_cast<std::size_t>(rr) * window_w + cc]);
+    };
+    const double z = (pixel(c, r) * (1 - tx) + pixel(c + 1, r) * tx) * (1 - ty) +
+                     (pixel(c, r + 1) * (1 - tx) + pixel(c + 1, r + 1) * tx) * ty;
+    if (std::isnan(z)) continue;
+    grid.values[k] = static_cast<float>(z);
+    ++filled;
+  }
+  return filled;
+}
+
+std::size_t fill_from_points(Grid& grid, const std::vector<ElevationPoint>& points_utm,
+                             double max_edge_m) {
+  using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+  using VertexBase = CGAL::Triangulation_vertex_base_with_info_2<double, Kernel>;
+  using DataStructure =
+      CGAL::Triangulation_data_structure_2<VertexBase, CGAL::Triangulation_face_base_2<Kernel>>;
+  using Delaunay = CGAL::Delaunay_triangulation_2<Kernel, DataStructure>;
+  using Point = Kernel::Point_2;
+
+  // Only points that can influence a cell: inside the grid grown by one longest triangle edge.
+  const GridSpec& s = grid.spec;
+  std::vector<std::pair<Point, double>> inside;
+  inside.reserve(points_utm.size());
+  for (const ElevationPoint& p : points_utm) {
+    if (p.x >= s.west_m - max_edge_m && p.x <= s.east_m() + max_edge_m &&
+        p.y >= s.south_m - max_edge_m && p.y <= s.north_m() + max_edge_m) {
+      inside.emplace_back(Point(p.x, p.y), p.z);
+    }
+  }
+  if (inside.size() < 3) return 0;
+  Delaunay tin;
+  tin.insert(inside.begin(), inside.end());  // spatially sorted bulk insertion
+  if (tin.dimension() < 2) return 0;         // all points on one line
+
+  const double max_edge_sq = max_edge_m * max_edge_m;
+  std::size_t filled = 0;
+  Delaunay::Face_handle hint;
+  for (std::size_t row = 0; row < s.rows; ++row) {
+    for (std::size_t col = 0; col < s.cols; ++col) {
+      float& cell = grid.at(col, row);
+      if (!std::isnan(cell)) continue;
+      const Point q(s.centre_easting(col), s.centre_northing(row));
+      const Delaunay::Face_handle face = tin.locate(q, hint);  // walks from the last face
+      hint = face;
+      if (tin.is_infinite(face)) continue;  // outside the hull: no extrapolation
+      const Point& a = face->vertex(0)->point();
+      const Point& b = face->vertex(1)->point();
+      const Point& c = face->vertex(2)->point();
+      if (CGAL::squared_distance(a, b) > max_edge_sq ||
+          CGAL::squared_distance(b, c) > max_edge_sq ||
+          CGAL::squared_distance(c, a) > max_edge_sq) {
+        continue;
+      }
+      // Barycentric coordinates of q in abc.
+      const double det = (b.y() - c.y()) * (a.x() - c.x()) + (c.x() - b.x()) * (a.y() - c.y());
+      if (det == 0.0) continue;
+      const double wa =
+          ((b.y() - c.y()) * (q.x() - c.x()) + (c.x() - b.x()) * (q.y() - c.y())) / det;
+      const double wb =
+          ((c.y() - a.y()) * (q.x() - c.x()) + (a.x() - c.x()) * (q.y() - c.y())) / det;
+      const double wc = 1.0 - wa - wb;
+      cell = static_cast<float>(wa * face->vertex(0)->info() + wb * face->vertex(1)->info() +
+                                wc * face->vertex(2)->info());
+      ++filled;
+    }
+  }
+  return filled;
+}
+
+std::size_t fill_voids(Grid& grid, double max_distance_m) {
+  const GridSpec& s = grid.spec;
+  const auto passes = static_cast<std::size_t>(std::floor(max_distance_m / s.cell_m));
+  const auto neighbours = [&](std::size_t k, auto&& visit) {
+    const std::size_t col = k % s.cols, row = k / s.cols;
+    for (int dr = -1; dr <= 1; ++dr) {
+      for (int dc = -1; dc <= 1; ++dc) {
+        if (dr == 0 && dc == 0) continue;
+        if ((col == 0 && dc < 0) || (row == 0 && dr < 0) || (col + 1 == s.cols && dc > 0) ||
+            (row + 1 == s.rows && dr > 0)) {
+          continue;
+        }
+        visit(k + static_cast<std::size_t>(static_cast<std::ptrdiff_t>(dr) * s.cols + dc));
+      }
+    }
+  };
+  // The frontier: void cells next to a valid one.
+  std::vector<std::size_t> frontier;
+  std::vector<char> queued(grid.values.size(), 0);
+  for (std::size_t k = 0; k < grid.values.size(); ++k) {
+    if (!std::isnan(grid.values[k])) continue;
+    bool next_to_data = false;
+    neighbours(k, [&](std::size_t n) { next_to_data |= !std::isnan(grid.values[n]); });
+    if (next_to_data) frontier.push_back(k), queued[k] = 1;
+  }
+  std::size_t filled = 0;
+  std::vector<float> new_values;
+  for (std::size_t pass = 0; pass < passes && !frontier.empty(); ++pass) {
+    new_values.resize(frontier.size());
+    for (std::size_t f = 0; f < frontier.size(); ++f) {
+      double sum = 0.0;
+      int count = 0;
+      neighbours(frontier[f], [&](std::size_t n) {
+        if (!std::isnan(grid.values[n])) sum += grid.values[n], ++count;
+      });
+      new_values[f] = static_cast<float>(sum / count);
+    }
+    for (std::size_t f = 0; f < frontier.size(); ++f) grid.values[frontier[f]] = new_values[f];
+    filled += frontier.size();
+    std::vector<std::size_t> next;
+    for (const std::size_t k : frontier) {
+      neighbours(k, [&](std::size_t n) {
+        if (std::isnan(grid.values[n]) && !queued[n]) next.push_back(n), queued[n] = 1;
+      });
+    }
+    frontier = std::move(next);
+  }
+  return filled;
+}
+
+}  // namespace roadcross::preprocess

@@ -1,0 +1,97 @@
+#!/usr/bin/env bash
+# Terrain on the bundled real maps: the SRTM raster path and the XYZ path (points derived from
+# the same SRTM tile with GDAL, reprojected to S-JTSK space-separated for Prague and to UTM 32N
+# comma-separated for Monaco) agree, segment by segment, to a median of 1 m; the raster path
+# agrees with GDAL's own reading of the tile (gdallocationinfo); Monaco's coastal voids are
+# filled; bad elevation input fails cleanly.
+source "$(dirname "$0")/lib.sh"
+SCRIPTS="$(dirname "$0")/../../scripts"
+MONACO_OSM="$ROADCROSS_MAPS_DIR/monaco/monaco.osm.pbf"
+
+# median_abs_difference DB_A DB_B COLUMN: median over segments of |A - B| where both are set.
+median_abs_difference() {
+  sqlite3 "$1" "ATTACH '$2' AS other;
+    SELECT abs(a.$3 - b.$3) FROM main.segments a JOIN other.segments b ON a.fid = b.fid
+    WHERE a.$3 IS NOT NULL AND b.$3 IS NOT NULL ORDER BY 1" |
+    awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'
+}
+
+# --- Prague: raster vs S-JTSK XYZ (detected, no --elevation-crs) --------------------------
+"$SCRIPTS/make-derived-xyz.sh" "$ROADCROSS_MAPS_DIR/prague/N50E014.hgt" EPSG:5514 \
+  "-745000 -1046000 -741000 -1042500" 30 space "$WORK/prague_sjtsk.xyz"
+"$ROADCROSS_BUILD" --osm "$PRAGUE_OSM" -o "$WORK/raster.gpkg" -q \
+  --elevation "$ROADCROSS_MAPS_DIR/prague/N50E014.hgt"
+"$ROADCROSS_BUILD" --osm "$PRAGUE_OSM" -o "$WORK/xyz.gpkg" --json \
+  --elevation "$WORK/prague_sjtsk.xyz" >"$WORK/xyz.json"
+[[ $(json_field "$WORK/xyz.json" terrain xyz_crs) == EPSG:5514 ]] && pass "S-JTSK detected" ||
+  fail "XYZ CRS: $(json_field "$WORK/xyz.json" terrain xyz_crs)"
+[[ $(sqlite3 "$WORK/xyz.gpkg" "SELECT value FROM roadcross_metadata WHERE key = 'input.1.crs'") == EPSG:5514 ]] ||
+  fail "the DB does not record the XYZ CRS"
+median=$(median_abs_difference "$WORK/raster.gpkg" "$WORK/xyz.gpkg" elevation_m)
+near "$median" 0 1.0 && pass "Prague raster vs XYZ: median |dz| $median m" ||
+  fail "Prague raster vs XYZ: median |dz| $median m > 1 m"
+none=$(sqlite3 "$WORK/raster.gpkg" "SELECT count(*) FROM segments WHERE elevation_m IS NULL")
+[[ $none == 0 ]] && pass "every Prague segment has elevation" || fail "$none Prague segments lack elevation"
+
+# Independent reading: GDAL's value of the tile's pixel under each segment's midpoint (nearest
+# pixel, 90 m: the median over the map must still be within a couple of metres).
+sqlite3 -separator ' ' "$WORK/raster.gpkg" \
+  "SELECT id, (MinX + MaxX) / 2, (MinY + MaxY) / 2 FROM rtree_segments_geom WHERE id % 20 = 0 ORDER BY id" \
+  >"$WORK/mid_utm"
+cut -d' ' -f2,3 "$WORK/mid_utm" | gdaltransform -s_srs EPSG:32633 -t_srs EPSG:4326 |
+  cut -d' ' -f1,2 | gdallocationinfo -valonly -wgs84 "$ROADCROSS_MAPS_DIR/prague/N50E014.hgt" \
+  >"$WORK/gdal_z"
+sqlite3 "$WORK/raster.gpkg" "SELECT elevation_m FROM segments WHERE fid % 20 = 0 ORDER BY fid" >"$WORK/our_z"
+gdal_median=$(paste "$WORK/our_z" "$WORK/gdal_z" | awk '{ d = $1 - $2; print (d < 0 ? -d : d) }' |
+  sort -g | awk '{ v[NR] = $1 } END { print v[int((NR + 1) / 2)] }')
+near "$gdal_median" 0 2.0 && pass "raster vs gdallocationinfo: median |dz| $gdal_median m" ||
+  fail "raster vs gdallocationinfo: median |dz| $gdal_median m"
+
+# --- Monaco: raster with coastal voids vs UTM 32N comma-separated XYZ ----------------------
+"$SCRIPTS/make-derived-xyz.sh" "$ROADCROSS_MAPS_DIR/monaco/N43E007.hgt" EPSG:32632 \
+  "366000 4840500 379500 4848500" 30 comma "$WORK/monaco_utm.csv"
+"$ROADCROSS_BUILD" --osm "$MONACO_OSM" -o "$WORK/monaco_raster.gpkg" --json \
+  --elevation "$ROADCROSS_MAPS_DIR/monaco/N43E007.hgt" >"$WORK/monaco.json"
+"$ROADCROSS_BUILD" --osm "$MONACO_OSM" -o "$WORK/monaco_xyz.gpkg" -q \
+  --elevation "$WORK/monaco_utm.csv" --elevation-crs EPSG:32632
+voids=$(json_field "$WORK/monaco.json" terrain voids_filled)
+((voids > 0)) && pass "Monaco: $voids void cells filled" || fail "Monaco: no void filled"
+missing=$(json_field "$WORK/monaco.json" terrain segments_without_elevation)
+total=$(json_field "$WORK/monaco.json" segments)
+((missing * 100 < total)) && pass "Monaco: $missing of $total segments without elevation" ||
+  fail "Monaco: $missing of $total segments without elevation"
+median=$(median_abs_difference "$WORK/monaco_raster.gpkg" "$WORK/monaco_xyz.gpkg" elevation_m)
+near "$median" 0 1.0 && pass "Monaco raster vs XYZ: median |dz| $median m" ||
+  fail "Monaco raster vs XYZ: median |dz| $median m > 1 m"
+# Bridges take their elevation from their ends: a bridge segment lies between the elevations
+# of the segments at its ends, never in the valley below (checked over the whole map).
+bad_bridges=$(sqlite3 "$WORK/monaco_raster.gpkg" "SELECT count(*) FROM segments
+  WHERE bridge = 1 AND tunnel = 0 AND (landform IS NOT 'bridge' OR tpi_small_m IS NOT NULL)")
+[[ $bad_bridges == 0 ]] && pass "bridges are not sampled from the DEM" ||
+  fail "$bad_bridges bridge segments sampled from the DEM"
+crest=$(sqlite3 "$WORK/monaco_raster.gpkg" "SELECT count(*) FROM segments WHERE reasons LIKE '%CREST_OR_DIP%'")
+((crest > 0)) && pass "Monaco: $crest segments on crests or in dips" || fail "no CREST_OR_DIP in Monaco"
+
+# --- bad input ----------------------------------------------------------------------------
+printf 'X Y Z\n-744985 -1042515 276.1\n-744955 oops 276.2\n' >"$WORK/bad.xyz"
+expect_failure "bad XYZ line" "bad.xyz: line 3: expected three numbers" -- \
+  "$ROADCROSS_BUILD" --osm "$PRAGUE_OSM" -o "$WORK/bad.gpkg" -q --elevation "$WORK/bad.xyz"
+[[ ! -e "$WORK/bad.gpkg" ]] || fail "a DB was left after a bad XYZ file"
+head -c 1000 "$ROADCROSS_MAPS_DIR/prague/N50E014.hgt" >"$WORK/N50E014.hgt"
+expect_failure "truncated raster" "N50E014.hgt" -- \
+  "$ROADCROSS_BUILD" --osm "$PRAGUE_OSM" -o "$WORK/bad.gpkg" -q --elevation "$WORK/N50E014.hgt"
+expect_failure "DEM of another place" "does not overlap the roads" -- \
+  "$ROADCROSS_BUILD" --osm "$PRAGUE_OSM" -o "$WORK/bad.gpkg" -q \
+  --elevation "$ROADCROSS_MAPS_DIR/monaco/N43E007.hgt"
+printf '458000 5547000 200\n458010 5547000 201\n458000 5547010 202\n' >"$WORK/utm.xyz"
+expect_failure "XYZ CRS not detectable" "utm.xyz: cannot tell the coordinate system" \
+  "--elevation-crs" -- \
+  "$ROADCROSS_BUILD" --osm "$PRAGUE_OSM" -o "$WORK/bad.gpkg" -q --elevation "$WORK/utm.xyz"
+expect_failure "unknown CRS" "--elevation-crs EPSG:999999" -- \
+  "$ROADCROSS_BUILD" --osm "$PRAGUE_OSM" -o "$WORK/bad.gpkg" -q --elevation "$WORK/utm.xyz" \
+  --elevation-crs EPSG:999999
+expect_failure "missing elevation file" "nothing.tif" -- \
+  "$ROADCROSS_BUILD" --osm "$PRAGUE_OSM" -o "$WORK/bad.gpkg" -q --elevation "$WORK/nothing.tif"
+[[ ! -e "$WORK/bad.gpkg" ]] || fail "a DB was left after bad elevation input"
+
+exit $((FAILURES > 0))

@@ -1,0 +1,473 @@
+// The terrain model on analytic surfaces whose slope, TPI and landform are known by hand:
+// a plane, a Gaussian hill, a V valley; TIN and raster sampling; void filling; and the whole
+// build on a road over a hill, from XYZ points and from a GeoTIFF.
+#include <gdal_priv.h>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <ogr_spatialref.h>
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <numbers>
+
+#include "osm_fixture.hpp"
+#include "roadcross/preprocess/build.hpp"
+#include "roadcross/preprocess/errors.hpp"
+#include "roadcross/preprocess/terrain.hpp"
+#include "roadcross/preprocess/terrain_grid.hpp"
+#include "roadcross/schema/sqlite.hpp"
+
+namespace rp = roadcross::preprocess;
+namespace geo = roadcross::geo;
+using roadcross::testing::TempDir;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+const geo::UtmZone kZone{33, true};
+// A point on zone 33's central meridian (lon 15 E), where grid north is true north.
+constexpr double kE0 = 500000.0, kN0 = 5540000.0;
+
+using Surface = std::function<double(double e, double n)>;
+
+/// A grid of `half_m` around (kE0, kN0) with the surface sampled at cell centres.
+rp::Grid grid_of(const Surface& z, double half_m, double cell_m = 5.0) {
+  rp::Grid grid(rp::grid_covering(kZone, kE0 - half_m, kN0 - half_m, kE0 + half_m, kN0 + half_m,
+                                  0.0, cell_m));
+  for (std::size_t row = 0; row < grid.spec.rows; ++row) {
+    for (std::size_t col = 0; col < grid.spec.cols; ++col) {
+      grid.at(col, row) =
+          static_cast<float>(z(grid.spec.centre_easting(col), grid.spec.centre_northing(row)));
+    }
+  }
+  return grid;
+}
+
+double gaussian_hill(double e, double n) {  // 50 m high, sigma 100 m, centred on (kE0, kN0)
+  const double r2 = (e - kE0) * (e - kE0) + (n - kN0) * (n - kN0);
+  return 300.0 + 50.0 * std::exp(-r2 / (2 * 100.0 * 100.0));
+}
+
+double v_valley(double e, double) {
+  return 300.0 + 0.2 * std::abs(e - kE0);
+}
+
+/// Mean of exp(-r^2 / (2 s^2)) over the annulus r1 < r <= r2 (area-weighted), by hand:
+/// s^2 (exp(-r1^2/2s^2) - exp(-r2^2/2s^2)) / ((r2^2 - r1^2) / 2).
+double gaussian_annulus_mean(double s, double r1, double r2) {
+  return s * s * (std::exp(-r1 * r1 / (2 * s * s)) - std::exp(-r2 * r2 / (2 * s * s))) /
+         ((r2 * r2 - r1 * r1) / 2);
+}
+
+/// Mean of |x| over the annulus r1 < r <= r2: (2/pi) times the mean radius
+/// (2/3)(r2^3 - r1^3)/(r2^2 - r1^2).
+double abs_x_annulus_mean(double r1, double r2) {
+  return 2.0 / kPi * (2.0 / 3.0) * (r2 * r2 * r2 - r1 * r1 * r1) / (r2 * r2 - r1 * r1);
+}
+
+rp::Landform landform_at(const rp::TerrainModel& m, const rp::TerrainParameters& p, double e,
+                         double n) {
+  return rp::classify_landform((m.tpi_small.sample(e, n) - m.small_stats.mean) / m.small_sd_used,
+                               (m.tpi_large.sample(e, n) - m.large_stats.mean) / m.large_sd_used,
+                               m.slope.sample(e, n), p);
+}
+
+}  // namespace
+
+TEST(Terrain, PlaneHasItsSlopeAndZeroTpi) {
+  const rp::TerrainParameters p;
+  // z rises 10 m per 100 m eastwards: slope atan(0.1) = 5.7106 degrees.
+  const rp::TerrainModel m = rp::analyse_terrain(
+      grid_of([](double e, double) { return 200.0 + 0.1 * (e - kE0); }, 700.0), p);
+  EXPECT_NEAR(m.slope.sample(kE0 + 2.5, kN0 + 2.5), std::atan(0.1) * 180.0 / kPi, 1e-3);
+  EXPECT_NEAR(m.tpi_small.sample(kE0 + 2.5, kN0 + 2.5), 0.0, 1e-3);
+  EXPECT_NEAR(m.tpi_large.sample(kE0 + 2.5, kN0 + 2.5), 0.0, 1e-3);
+  EXPECT_EQ(landform_at(m, p, kE0, kN0), rp::Landform::open_slope);  // 5.7 > 5 degrees
+  // Half as steep: 2.86 degrees, plains.
+  const rp::TerrainModel gentle = rp::analyse_terrain(
+      grid_of([](double e, double) { return 200.0 + 0.05 * (e - kE0); }, 700.0), p);
+  EXPECT_EQ(landform_at(gentle, p, kE0, kN0), rp::Landform::plains);
+  // The grid's edge (no full 3x3 neighbourhood) has no slope.
+  EXPECT_TRUE(std::isnan(m.slope.at(0, 10)));
+}
+
+TEST(Terrain, GaussianHillTopIsAMountainTopAndItsFootIsNot) {
+  const rp::TerrainParameters p;
+  const rp::TerrainModel m = rp::analyse_terrain(grid_of(gaussian_hill, 1000.0), p);
+  // The top is on a cell centre; the annulus means by hand (continuous annulus; the cell
+  // approximation differs by a few centimetres).
+  const double e = kE0 + 2.5, n = kN0 + 2.5;
+  ASSERT_NEAR(m.elevation.sample(e, n), gaussian_hill(e, n), 1e-4);
+  const double top = 50.0;
+  EXPECT_NEAR(m.tpi_small.at(200, 200), top * (1 - gaussian_annulus_mean(100, 10, 50)), 0.1);
+  EXPECT_NEAR(m.tpi_large.at(200, 200), top * (1 - gaussian_annulus_mean(100, 100, 300)), 0.3);
+  EXPECT_EQ(landform_at(m, p, e, n), rp::Landform::mountain_top);
+  EXPECT_TRUE(rp::is_crest_or_dip(landform_at(m, p, e, n)));
+  // At the foot, 400 m out, the ground is flat and lower than the hill beside it.
+  const rp::Landform foot = landform_at(m, p, kE0 + 400.0, kN0);
+  EXPECT_FALSE(rp::is_crest_or_dip(foot)) << rp::landform_name(foot);
+  EXPECT_NE(foot, rp::Landform::upper_slope);
+}
+
+TEST(Terrain, VValleyFloorIsACanyonAndItsInverseARidge) {
+  const rp::TerrainParameters p;
+  const rp::TerrainModel m = rp::analyse_terrain(grid_of(v_valley, 1000.0), p);
+  // Cell column 200 has its centre at kE0 + 2.5: |x| = 2.5 there, 0.5 m above the floor line.
+  const double e = kE0 + 2.5;
+  EXPECT_NEAR(m.tpi_small.sample(e, kN0 + 2.5), 0.5 - 0.2 * abs_x_annulus_mean(10, 50), 0.15);
+  EXPECT_NEAR(m.tpi_large.sample(e, kN0 + 2.5), 0.5 - 0.2 * abs_x_annulus_mean(100, 300), 0.3);
+  EXPECT_EQ(landform_at(m, p, e, kN0), rp::Landform::canyon);
+  // 600 m up the flank the ground is a plane of slope atan(0.2) = 11.3 degrees.
+  EXPECT_EQ(landform_at(m, p, kE0 + 600.0, kN0), rp::Landform::open_slope);
+  const rp::TerrainModel ridge = rp::analyse_terrain(
+      grid_of([](double e2, double n2) { return 600.0 - v_valley(e2, n2); }, 1000.0), p);
+  EXPECT_EQ(landform_at(ridge, p, e, kN0), rp::Landform::mountain_top);
+}
+
+TEST(Terrain, TpiNeedsEnoughOfItsAnnulus) {
+  rp::Grid grid = grid_of([](double, double) { return 100.0; }, 200.0);
+  // Only a 20 m wide strip has elevation: the 10..50 m annulus is mostly empty there.
+  for (std::size_t row = 0; row < grid.spec.rows; ++row) {
+    for (std::size_t col = 0; col < grid.spec.cols; ++col) {
+      if (std::abs(grid.spec.centre_easting(col) - kE0) > 10.0) grid.at(col, row) = NAN;
+    }
+  }
+  const rp::Grid tpi = rp::topographic_position(grid, 10.0, 50.0, 0.5);
+  EXPECT_TRUE(std::isnan(tpi.sample(kE0 + 2.5, kN0 + 2.5)));
+  const rp::Grid lenient = rp::topographic_position(grid, 10.0, 50.0, 0.1);
+  EXPECT_NEAR(lenient.sample(kE0 + 2.5, kN0 + 2.5), 0.0, 1e-6);
+}
+
+TEST(Terrain, TinInterpolationIsExactOnAPlaneAndDoesNotExtrapolate) {
+  // Pseudo-random points (a fixed LCG) inside a 400 m square, on the plane z = 50 + 0.03 e - 0.02
+  // n.
+  const auto plane = [](double e, double n) { return 50.0 + 0.03 * (e - kE0) - 0.02 * (n - kN0); };
+  std::vector<rp::ElevationPoint> points;
+  std::uint64_t state = 12345;
+  const auto next = [&] {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return double(state >> 11) / double(1ULL << 53);
+  };
+  for (int i = 0; i < 2000; ++i) {
+    const double e = kE0 - 200 + 400 * next(), n = kN0 - 200 + 400 * next();
+    points.push_back({e, n, plane(e, n)});
+  }
+  rp::Grid grid(rp::grid_covering(kZone, kE0 - 300, kN0 - 300, kE0 + 300, kN0 + 300, 0, 5));
+  const std::size_t filled = rp::fill_from_points(grid, points, 100.0);
+  EXPECT_GT(filled, 5000u);  // about 80 x 80 cells lie inside the hull
+  for (double d : {-150.0, -37.5, 0.0, 62.5, 150.0}) {
+    EXPECT_NEAR(grid.sample(kE0 + d, kN0 - d), plane(kE0 + d, kN0 - d), 2e-3);
+  }
+  EXPECT_TRUE(std::isnan(grid.sample(kE0 + 250, kN0)));  // outside the hull
+  // With a 1 m edge limit every triangle spans a "gap".
+  rp::Grid strict(grid.spec);
+  EXPECT_EQ(rp::fill_from_points(strict, points, 1.0), 0u);
+}
+
+namespace {
+
+/// Writes a GeoTIFF in UTM 33N (EPSG:32633) with `cell_m` pixels over kE0 +- half_m, north up,
+/// values from `z`; `nodata` cells where `is_void` says so.
+std::string write_geotiff(const std::string& path, const Surface& z, double half_m, double cell_m,
+                          const std::function<bool(double, double)>& is_void = nullptr) {
+  GDALAllRegister();
+  const int size = static_cast<int>(2 * half_m / cell_m);
+  GDALDriver* driver = GetGDALDriverManager()->GetDriverByName("GTiff");
+  GDALDataset* ds = driver->Create(path.c_str(), size, size, 1, GDT_Float32, nullptr);
+  double gt[6] = {kE0 - half_m, cell_m, 0, kN0 + half_m, 0, -cell_m};
+  ds->SetGeoTransform(gt);
+  OGRSpatialReference srs;
+  srs.importFromEPSG(32633);
+  ds->SetSpatialRef(&srs);
+  std::vector<float> pixels(static_cast<std::size_t>(size) * size);
+  for (int r = 0; r < size; ++r) {
+    for (int c = 0; c < size; ++c) {
+      const double e = gt[0] + (c + 0.5) * cell_m, n = gt[3] - (r + 0.5) * cell_m;
+      pixels[static_cast<std::size_t>(r) * size + c] =
+          is_void && is_void(e, n) ? -9999.0f : static_cast<float>(z(e, n));
+    }
+  }
+  GDALRasterBand* band = ds->GetRasterBand(1);
+  if (is_void) band->SetNoDataValue(-9999.0);
+  EXPECT_EQ(
+      band->RasterIO(GF_Write, 0, 0, size, size, pixels.data(), size, size, GDT_Float32, 0, 0),
+      CE_None);
+  GDALClose(ds);
+  return path;
+}
+
+}  // namespace
+
+TEST(Terrain, RasterIsSampledBilinearlyWithItsNodata) {
+  TempDir dir;
+  const auto plane = [](double e, double n) { return 80.0 + 0.04 * (e - kE0) + 0.01 * (n - kN0); };
+  const std::string tif = write_geotiff(dir.file("plane.tif"), plane, 500.0, 10.0);
+  rp::Grid grid(rp::grid_covering(kZone, kE0 - 300, kN0 - 300, kE0 + 300, kN0 + 300, 0, 5));
+  EXPECT_EQ(rp::fill_from_raster(grid, tif), grid.spec.size());
+  for (double d : {-250.0, -12.5, 0.0, 37.5, 250.0}) {
+    EXPECT_NEAR(grid.sample(kE0 + d, kN0 + d / 2), plane(kE0 + d, kN0 + d / 2), 1e-3);
+  }
+  // A void of 60 m x 60 m: cells whose bilinear neighbourhood touches it stay NaN...
+  const auto in_void = [](double e, double n) {
+    return std::abs(e - kE0) < 30.0 && std::abs(n - kN0) < 30.0;
+  };
+  const std::string holed = write_geotiff(dir.file("holed.tif"), plane, 500.0, 10.0, in_void);
+  rp::Grid with_void(grid.spec);
+  const std::size_t filled = rp::fill_from_raster(with_void, holed);
+  EXPECT_LT(filled, grid.spec.size());
+  EXPECT_TRUE(std::isnan(with_void.sample(kE0, kN0)));
+  EXPECT_NEAR(with_void.sample(kE0 + 100, kN0), plane(kE0 + 100, kN0), 1e-3);
+  // ... until fill_voids closes them from the valid neighbours (35 m away at most).
+  rp::Grid too_short = with_void;
+  rp::fill_voids(too_short, 10.0);
+  EXPECT_TRUE(std::isnan(too_short.sample(kE0, kN0)));
+  EXPECT_GT(rp::fill_voids(with_void, 100.0), 0u);
+  EXPECT_NEAR(with_void.sample(kE0, kN0), plane(kE0, kN0), 1.0);
+  EXPECT_EQ(with_void.count_valid(), grid.spec.size());
+}
+
+TEST(Terrain, GeographicRasterIsTransformed) {
+  // A raster in EPSG:4326 whose value is a linear function of lon/lat: the grid cell at a UTM
+  // point must get the function's value at that point's lon/lat.
+  TempDir dir;
+  const std::string path = dir.file("geo.tif");
+  GDALAllRegister();
+  GDALDataset* ds = GetGDALDriverManager()->GetDriverByName("GTiff")->Create(
+      path.c_str(), 200, 200, 1, GDT_Float64, nullptr);
+  double gt[6] = {14.99, 0.0001, 0, 50.02, 0, -0.0001};
+  ds->SetGeoTransform(gt);
+  OGRSpatialReference srs;
+  srs.importFromEPSG(4326);
+  ds->SetSpatialRef(&srs);
+  const auto f = [](double lon, double lat) {
+    return 1000.0 * (lon - 15.0) + 500.0 * (lat - 50.0);
+  };
+  std::vector<double> pixels(200 * 200);
+  for (int r = 0; r < 200; ++r) {
+    for (int c = 0; c < 200; ++c)
+      pixels[r * 200 + c] = f(gt[0] + (c + 0.5) * gt[1], gt[3] + (r + 0.5) * gt[5]);
+  }
+  ASSERT_EQ(ds->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, 200, 200, pixels.data(), 200, 200,
+                                           GDT_Float64, 0, 0),
+            CE_None);
+  GDALClose(ds);
+  const geo::UtmPoint centre = geo::wgs84_to_utm(50.01, 15.0, kZone);
+  rp::Grid grid(rp::grid_covering(kZone, centre.easting_m - 400, centre.northing_m - 400,
+                                  centre.easting_m + 400, centre.northing_m + 400, 0, 5));
+  EXPECT_EQ(rp::fill_from_raster(grid, path), grid.spec.size());
+  for (double d : {-300.0, 0.0, 300.0}) {
+    const double e = grid.spec.centre_easting(80) + d, n = grid.spec.centre_northing(90) - d;
+    const geo::LatLon ll = geo::utm_to_wgs84(e, n, kZone);
+    EXPECT_NEAR(grid.sample(e, n), f(ll.lon_deg, ll.lat_deg), 1e-3);
+  }
+}
+
+namespace {
+
+/// A straight residential road along easting from kE0 - 600 to kE0 + 600 at northing kN0,
+/// nodes every 20 m; the middle stretch kE0 +- `bridge_half_m` is a bridge way if > 0.
+std::string road_across(double bridge_half_m = 0.0) {
+  std::string body, refs_before, refs_bridge, refs_after;
+  for (int i = 0; i <= 60; ++i) {
+    const double e = kE0 - 600.0 + 20.0 * i;
+    const geo::LatLon ll = geo::utm_to_wgs84(e, kN0, kZone);
+    body += roadcross::testing::osm_node(i + 1, ll.lat_deg, ll.lon_deg);
+    const std::string id = std::to_string(i + 1) + " ";
+    const double x = e - kE0;
+    if (bridge_half_m <= 0.0) {
+      refs_before += id;
+    } else if (x <= -bridge_half_m) {
+      refs_before += id;
+    } else if (x < bridge_half_m) {
+      refs_bridge += id;
+    } else {
+      refs_after += id;
+    }
+    if (bridge_half_m > 0.0 && std::abs(std::abs(x) - bridge_half_m) < 1e-6) {
+      refs_bridge += id;  // the structure's ends are shared with the road on either side
+    }
+  }
+  body += roadcross::testing::osm_way(1, refs_before, "highway=residential;name=Hill Road");
+  if (bridge_half_m > 0.0) {
+    body += roadcross::testing::osm_way(2, refs_bridge, "highway=residential;bridge=yes");
+    body += roadcross::testing::osm_way(3, refs_after, "highway=residential");
+  }
+  return roadcross::testing::osm_document(body);
+}
+
+struct SegmentRow {
+  double mid_e;
+  std::optional<double> elevation_m, grade_percent;
+  std::optional<std::string> landform;
+  std::optional<int> elevation_cost;
+  std::string reasons;
+};
+
+std::vector<SegmentRow> read_segments(const std::string& db_path) {
+  roadcross::sqlite::Database db(db_path, SQLITE_OPEN_READONLY);
+  auto q = db.prepare(
+      "SELECT (MinX + MaxX) / 2, elevation_m, grade_percent, landform, elevation_cost, reasons "
+      "FROM segments JOIN rtree_segments_geom ON id = fid ORDER BY 1");
+  std::vector<SegmentRow> rows;
+  while (q.step()) {
+    SegmentRow r;
+    r.mid_e = q.column_double(0);
+    if (!q.column_is_null(1)) r.elevation_m = q.column_double(1);
+    if (!q.column_is_null(2)) r.grade_percent = q.column_double(2);
+    if (!q.column_is_null(3)) r.landform = q.column_text(3);
+    if (!q.column_is_null(4)) r.elevation_cost = static_cast<int>(q.column_int64(4));
+    r.reasons = q.column_is_null(5) ? "" : q.column_text(5);
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+rp::BuildSummary build(const TempDir& dir, const std::string& osm,
+                       const std::vector<std::string>& elevation, const std::string& crs,
+                       const std::string& out) {
+  rp::BuildOptions options;
+  options.osm_path = dir.write("road.osm", osm);
+  options.output_path = dir.file(out);
+  // The road is 1200 m in UTM up to the centimetre the OSM coordinates are rounded to: just
+  // over 10 m segments keep the count at 120.
+  options.parameters.segments.max_segment_length_m = 10.01;
+  for (const std::string& e : elevation) {
+    options.elevation.sources.push_back({e, rp::elevation_kind_of(e)});
+  }
+  options.elevation.xyz_crs = crs;
+  return rp::run_build(options);
+}
+
+std::string write_xyz(const std::string& path, const Surface& z, double half_m, double step_m,
+                      char separator) {
+  std::ofstream out(path);
+  out << "easting" << separator << "northing" << separator << "altitude\r\n";
+  out.precision(10);
+  for (double n = kN0 - half_m; n <= kN0 + half_m; n += step_m) {
+    for (double e = kE0 - half_m; e <= kE0 + half_m; e += step_m) {
+      out << e << separator << n << separator << z(e, n) << "\r\n";
+    }
+  }
+  return path;
+}
+
+}  // namespace
+
+TEST(TerrainBuild, RoadOverAHillFromRasterAndFromXyzAgree) {
+  TempDir dir;
+  const std::string tif = write_geotiff(dir.file("hill.tif"), gaussian_hill, 1500.0, 10.0);
+  const std::string xyz = write_xyz(dir.file("hill.csv"), gaussian_hill, 1500.0, 10.0, ';');
+  build(dir, road_across(), {tif}, "", "raster.gpkg");
+  const rp::BuildSummary s = build(dir, road_across(), {xyz}, "EPSG:32633", "xyz.gpkg");
+  EXPECT_EQ(s.terrain.xyz_points, 301u * 301u);
+  const auto raster_rows = read_segments(dir.file("raster.gpkg"));
+  const auto xyz_rows = read_segments(dir.file("xyz.gpkg"));
+  ASSERT_EQ(raster_rows.size(), xyz_rows.size());
+  ASSERT_EQ(raster_rows.size(), 120u);  // 1200 m in segments of at most 10 m
+  for (std::size_t i = 0; i < raster_rows.size(); ++i) {
+    const SegmentRow& r = raster_rows[i];
+    ASSERT_TRUE(r.elevation_m && xyz_rows[i].elevation_m);
+    // Both are linear interpolations of the same 10 m samples (bilinear vs TIN), resampled to
+    // the 5 m grid: each linear step errs by at most h^2/8 |f''| per axis, at the top
+    // (f'' = 50/100^2 per m) (10^2/8 + 5^2/8) * 0.005 * 2 axes = 0.156 m.
+    EXPECT_NEAR(*r.elevation_m, *xyz_rows[i].elevation_m, 0.16);
+    EXPECT_NEAR(*r.elevation_m, gaussian_hill(r.mid_e, kN0), 0.16);
+    EXPECT_EQ(r.landform, xyz_rows[i].landform);
+  }
+  // The segment at the top: mountain top, CREST_OR_DIP, the highest elevation cost on the road
+  // and at least that of a ridge (landform cost 10 -> 6 of 9) over its whole window.
+  const SegmentRow& top = raster_rows[60];
+  EXPECT_NEAR(top.mid_e, kE0 + 5.0, 0.05);
+  EXPECT_EQ(top.landform, "mountain_top");
+  EXPECT_THAT(top.reasons, ::testing::HasSubstr("CREST_OR_DIP"));
+  EXPECT_GE(top.elevation_cost, 6);
+  for (const SegmentRow& r : raster_rows) EXPECT_LE(r.elevation_cost, top.elevation_cost);
+  // The grade of a segment on the eastern flank at 150 m: dz/de of the hill (going east, down).
+  const SegmentRow& flank = raster_rows[75];
+  const double x = flank.mid_e - kE0;
+  EXPECT_NEAR(*flank.grade_percent,
+              -100.0 * x / (100.0 * 100.0) * (gaussian_hill(flank.mid_e, kN0) - 300.0), 0.5);
+  // The foot: no crest.
+  const SegmentRow& foot = raster_rows[0];
+  EXPECT_THAT(foot.reasons, ::testing::Not(::testing::HasSubstr("CREST_OR_DIP")));
+  EXPECT_THAT(foot.reasons, ::testing::Not(::testing::HasSubstr("NO_ELEVATION")));
+}
+
+TEST(TerrainBuild, PartialCoverageGivesNoElevationAndRenormalisedRank) {
+  TempDir dir;
+  // The raster covers only the western half of the road (e < kE0 - 100).
+  const auto west_only = [](double e, double) { return e < kE0 - 100.0; };
+  const std::string tif = write_geotiff(
+      dir.file("half.tif"), [](double, double) { return 250.0; }, 1500.0, 10.0,
+      [&](double e, double n) { return !west_only(e, n); });
+  rp::TerrainParameters p;
+  const rp::BuildSummary s = build(dir, road_across(), {tif}, "", "half.gpkg");
+  const auto rows = read_segments(dir.file("half.gpkg"));
+  std::size_t without = 0;
+  for (const SegmentRow& r : rows) {
+    if (r.mid_e < kE0 - 100.0 - p.void_fill_max_m - 20.0) {
+      EXPECT_TRUE(r.elevation_cost.has_value());
+      EXPECT_NEAR(*r.elevation_m, 250.0, 1e-3);
+    }
+    if (r.mid_e > kE0 - 100.0 + p.void_fill_max_m + 20.0) {
+      EXPECT_FALSE(r.elevation_m.has_value());
+      EXPECT_THAT(r.reasons, ::testing::HasSubstr("NO_ELEVATION"));
+    }
+    without += r.elevation_cost ? 0 : 1;
+  }
+  EXPECT_EQ(s.terrain.segments_without_elevation, without);
+  EXPECT_GT(without, 40u);
+  EXPECT_THAT(s.notes, ::testing::Contains(::testing::HasSubstr(
+                           std::to_string(without) + " of 120 segments have no elevation")));
+}
+
+TEST(TerrainBuild, BridgeTakesItsElevationFromItsEnds) {
+  TempDir dir;
+  // A V valley 60 m deep at the road's middle; a bridge spans kE0 +- 200 m, whose ends lie at
+  // 300 + 0.2 * 200 = 340 m: the deck is level at 340 m, not down in the valley.
+  const std::string tif = write_geotiff(dir.file("valley.tif"), v_valley, 1500.0, 10.0);
+  const rp::BuildSummary s = build(dir, road_across(200.0), {tif}, "", "bridge.gpkg");
+  EXPECT_EQ(s.terrain.structure_segments, 40u);
+  for (const SegmentRow& r : read_segments(dir.file("bridge.gpkg"))) {
+    if (std::abs(r.mid_e - kE0) < 200.0) {
+      EXPECT_EQ(r.landform, "bridge");
+      EXPECT_NEAR(*r.elevation_m, 340.0, 0.05);
+      EXPECT_NEAR(*r.grade_percent, 0.0, 0.05);
+    } else {
+      EXPECT_NEAR(*r.elevation_m, v_valley(r.mid_e, kN0), 0.05);
+    }
+  }
+}
+
+TEST(TerrainBuild, ElevationThatMissesTheRoadsIsAnError) {
+  TempDir dir;
+  // A raster 50 km away.
+  const std::string far = dir.file("far.tif");
+  {
+    GDALAllRegister();
+    GDALDataset* ds = GetGDALDriverManager()->GetDriverByName("GTiff")->Create(
+        far.c_str(), 10, 10, 1, GDT_Float32, nullptr);
+    double gt[6] = {kE0 + 50000, 10, 0, kN0 + 50000, 0, -10};
+    ds->SetGeoTransform(gt);
+    OGRSpatialReference srs;
+    srs.importFromEPSG(32633);
+    ds->SetSpatialRef(&srs);
+    std::vector<float> zeros(100, 1.0f);
+    EXPECT_EQ(ds->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, 10, 10, zeros.data(), 10, 10,
+                                             GDT_Float32, 0, 0),
+              CE_None);
+    GDALClose(ds);
+  }
+  try {
+    build(dir, road_across(), {far}, "", "far.gpkg");
+    FAIL() << "a DEM beside the map was accepted";
+  } catch (const rp::InputError& e) {
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("far.tif"));
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("does not overlap the roads"));
+  }
+  EXPECT_FALSE(std::ifstream(dir.file("far.gpkg")).good());  // no half-written output
+  // Not a raster at all.
+  const std::string junk = dir.write("junk.tif", "this is not a raster\n");
+  EXPECT_THROW(build(dir, road_across(), {junk}, "", "junk.gpkg"), rp::InputError);
+}
