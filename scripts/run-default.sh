@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Sets up, builds and runs roadcross-build on the bundled Prague map (New Town around Karlovo
-# namesti, where the method was first tested), then asks the map a sample question.
+# namesti, where the method was first tested) with its SRTM elevation tile, then asks the map a sample question.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -11,6 +11,7 @@ cmake --build --preset release -j"$(nproc)" --target roadcross-build roadcross
 mkdir -p out
 ./build/release/cli/roadcross-build \
   --osm maps/prague/prague_nove_mesto_roads_2017.osm \
+  --elevation maps/prague/N50E014.hgt \
   -o out/prague.gpkg
 
 echo

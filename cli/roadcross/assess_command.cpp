@@ -59,6 +59,9 @@ int AssessCommand::run() {
   std::printf("junction    %s m along the road   designated crossing %s m\n",
               number_or_dash(a.junction_distance_m, "%.1f").c_str(),
               number_or_dash(a.crossing_distance_m, "%.1f").c_str());
+  std::printf("terrain     %s, elevation cost %s of 9\n",
+              a.landform ? ("landform " + *a.landform).c_str() : "no elevation data",
+              int_or_dash(a.elevation_cost).c_str());
   std::printf("traffic     maxspeed %s km/h, %s lanes, %s m wide\n",
               number_or_dash(a.maxspeed_kmh, "%.0f").c_str(), int_or_dash(a.lanes).c_str(),
               number_or_dash(a.width_m, "%.1f").c_str());
