@@ -471,3 +471,33 @@ TEST(TerrainBuild, ElevationThatMissesTheRoadsIsAnError) {
   const std::string junk = dir.write("junk.tif", "this is not a raster\n");
   EXPECT_THROW(build(dir, road_across(), {junk}, "", "junk.gpkg"), rp::InputError);
 }
+
+TEST(Terrain, TinOnRealDmr5gPointsCoversTheirSheet) {
+  // maps/zabaged/BILO48_5g_40k.csv: 40 329 real DMR 5G points in S-JTSK covering E
+  // -486 015.78...-485 000.00, N -1 116 591.75...-1 116 000.00 (PROVENANCE.md), heights
+  // 240.29...255.32 m. Linear interpolation in triangles never leaves the range of the
+  // vertices, and the filled cells must cover that rectangle's area (1 015.78 m x 591.75 m =
+  // 601 088 m^2; Krovak's and UTM's scale factors differ by < 0.1 %), less the boundary cells.
+  const geo::UtmZone zone{34, true};
+  std::vector<rp::ElevationPoint> points =
+      rp::read_xyz(ROADCROSS_MAPS_DIR "/zabaged/BILO48_5g_40k.csv");
+  std::vector<double> x, y;
+  for (const auto& p : points) x.push_back(p.x), y.push_back(p.y);
+  rp::CrsTransform(rp::detect_xyz_crs("bilo", points), zone).to_utm(x, y);
+  double min_e = 1e18, min_n = 1e18, max_e = -1e18, max_n = -1e18;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    points[i].x = x[i], points[i].y = y[i];
+    min_e = std::min(min_e, x[i]), max_e = std::max(max_e, x[i]);
+    min_n = std::min(min_n, y[i]), max_n = std::max(max_n, y[i]);
+  }
+  rp::Grid grid(rp::grid_covering(zone, min_e, min_n, max_e, max_n, 20.0, 5.0));
+  const std::size_t filled = rp::fill_from_points(grid, points, 100.0);
+  const double area_m2 = double(filled) * 25.0;
+  EXPECT_GT(area_m2, 0.97 * 601088.0);
+  EXPECT_LT(area_m2, 1.00 * 601088.0);
+  for (const float z : grid.values) {
+    if (std::isnan(z)) continue;
+    EXPECT_GE(z, 240.29f - 1e-3f);
+    EXPECT_LE(z, 255.33f);
+  }
+}
