@@ -30,6 +30,15 @@ median_abs_difference() {
 median=$(median_abs_difference "$WORK/raster.gpkg" "$WORK/xyz.gpkg" elevation_m)
 near "$median" 0 1.0 && pass "Prague raster vs XYZ: median |dz| $median m" ||
   fail "Prague raster vs XYZ: median |dz| $median m > 1 m"
+# The same points comma-separated give the same DB contents as space-separated ones.
+tr ' ' ',' <"$WORK/prague_sjtsk.xyz" >"$WORK/prague_sjtsk_comma.csv"
+"$ROADCROSS_BUILD" --osm "$PRAGUE_OSM" -o "$WORK/xyz_comma.gpkg" -q \
+  --elevation "$WORK/prague_sjtsk_comma.csv"
+same=$(sqlite3 "$WORK/xyz.gpkg" "ATTACH '$WORK/xyz_comma.gpkg' AS c; SELECT count(*) FROM main.segments a
+  JOIN c.segments b ON a.fid = b.fid WHERE a.elevation_m = b.elevation_m AND a.landform = b.landform")
+[[ $same == $(sqlite3 "$WORK/xyz.gpkg" "SELECT count(*) FROM segments") ]] &&
+  pass "comma- and space-separated S-JTSK points agree on all $same segments" ||
+  fail "comma vs space: only $same segments agree"
 none=$(sqlite3 "$WORK/raster.gpkg" "SELECT count(*) FROM segments WHERE elevation_m IS NULL")
 [[ $none == 0 ]] && pass "every Prague segment has elevation" || fail "$none Prague segments lack elevation"
 

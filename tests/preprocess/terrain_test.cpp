@@ -501,3 +501,29 @@ TEST(Terrain, TinOnRealDmr5gPointsCoversTheirSheet) {
     EXPECT_LE(z, 255.33f);
   }
 }
+
+TEST(TerrainBuild, RoadUpAPlaneHasItsGradeSlopeAndCost) {
+  // z = 200 + 0.1 (e - kE0): the east-running road climbs 10 %, the terrain slope is
+  // atan(0.1) = 5.711 degrees everywhere, TPI is 0: open slope (> 5 degrees), landform cost 3,
+  // elevation cost floor(3 * 9 / 15) = 1, no crest.
+  TempDir dir;
+  const auto plane = [](double e, double) { return 200.0 + 0.1 * (e - kE0); };
+  const std::string tif = write_geotiff(dir.file("plane.tif"), plane, 1500.0, 10.0);
+  build(dir, road_across(), {tif}, "", "plane.gpkg");
+  roadcross::sqlite::Database db(dir.file("plane.gpkg"), SQLITE_OPEN_READONLY);
+  auto q = db.prepare(
+      "SELECT grade_percent, slope_deg, tpi_small_m, tpi_large_m, landform, "
+      "elevation_cost, reasons FROM segments");
+  int rows = 0;
+  while (q.step()) {
+    ++rows;
+    EXPECT_NEAR(q.column_double(0), 10.0, 0.01);
+    EXPECT_NEAR(q.column_double(1), std::atan(0.1) * 180.0 / kPi, 1e-3);
+    EXPECT_NEAR(q.column_double(2), 0.0, 1e-3);
+    EXPECT_NEAR(q.column_double(3), 0.0, 1e-3);
+    EXPECT_EQ(q.column_text(4), "open_slope");
+    EXPECT_EQ(q.column_int64(5), 1);
+    EXPECT_THAT(q.column_text(6), ::testing::Not(::testing::HasSubstr("CREST_OR_DIP")));
+  }
+  EXPECT_EQ(rows, 120);
+}
