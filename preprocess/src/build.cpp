@@ -18,6 +18,7 @@
 #include "roadcross/preprocess/segments.hpp"
 #include "roadcross/preprocess/sha256.hpp"
 #include "roadcross/preprocess/terrain.hpp"
+#include "roadcross/preprocess/terrain_coverage.hpp"
 #include "roadcross/schema/schema.hpp"
 
 namespace roadcross::preprocess {
@@ -80,8 +81,10 @@ BuildSummary run_build(const BuildOptions& options) {
   progress.finish_stage("class, junctions, curvature");
   const bool has_elevation = !options.elevation.sources.empty();
   TerrainReport terrain;
+  Grid terrain_grid(GridSpec{});
   if (has_elevation) {
-    terrain = compute_terrain(graph, options.elevation, options.parameters.terrain, progress);
+    terrain = compute_terrain(graph, options.elevation, options.parameters.terrain, progress,
+                              &terrain_grid);
   } else {
     for (Segment& s : graph.segments) s.reasons.emplace_back("NO_ELEVATION");
   }
@@ -130,6 +133,11 @@ BuildSummary run_build(const BuildOptions& options) {
   }
   try {
     write_geopackage(output.temp_path(), contents, progress);
+    if (has_elevation) {
+      progress.start_stage("writing the terrain grid");
+      write_terrain_coverage(output.temp_path(), terrain_grid, contents.last_change);
+      progress.finish_stage(std::string("table ") + kTerrainTable);
+    }
   } catch (const OutputError& e) {
     // Name the file the user asked for; the temporary one is gone when this propagates.
     throw OutputError(options.output_path + ": " + e.what() +

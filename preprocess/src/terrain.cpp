@@ -459,7 +459,7 @@ std::size_t fill_from_xyz_files(Grid& grid, const std::vector<const ElevationSou
 }  // namespace
 
 TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
-                              const TerrainParameters& p, Progress& progress) {
+                              const TerrainParameters& p, Progress& progress, Grid* elevation_out) {
   TerrainReport report;
   double min_e, min_n, max_e, max_n;
   road_bounds(graph, min_e, min_n, max_e, max_n);
@@ -503,8 +503,9 @@ TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
                         std::to_string(report.voids_filled) + " void cells filled");
 
   progress.start_stage("terrain analysis");
-  const TerrainModel model = analyse_terrain(std::move(elevation), p);
+  TerrainModel model = analyse_terrain(std::move(elevation), p);
   assign_terrain(graph, model, p);
+  if (elevation_out) *elevation_out = std::move(model.elevation);
   for (const Segment& s : graph.segments) {
     report.segments_without_elevation += s.elevation_cost ? 0 : 1;
     report.structure_segments += (s.bridge || s.tunnel) ? 1 : 0;

@@ -56,6 +56,20 @@ gdal_median=$(paste "$WORK/our_z" "$WORK/gdal_z" | awk '{ d = $1 - $2; print (d 
 near "$gdal_median" 0 2.0 && pass "raster vs gdallocationinfo: median |dz| $gdal_median m" ||
   fail "raster vs gdallocationinfo: median |dz| $gdal_median m"
 
+# The terrain grid is in the DB as a GeoPackage gridded coverage that GDAL reads: its cell
+# under a segment's midpoint holds (to within the 5 m grid's local relief) the segment's
+# elevation, and gdaldem can shade it.
+gdalinfo "GPKG:$WORK/raster.gpkg:terrain" >"$WORK/terrain_info" 2>&1 || fail "gdalinfo cannot open the terrain grid"
+grep -q 'Pixel Size = (5.000000000000000,-5.000000000000000)' "$WORK/terrain_info" &&
+  pass "terrain grid: 5 m cells" || fail "terrain grid: $(grep 'Pixel Size' "$WORK/terrain_info")"
+cut -d' ' -f2,3 "$WORK/mid_utm" | gdallocationinfo -valonly -geoloc "GPKG:$WORK/raster.gpkg:terrain" >"$WORK/grid_z"
+grid_median=$(paste "$WORK/our_z" "$WORK/grid_z" | awk '{ d = $1 - $2; print (d < 0 ? -d : d) }' |
+  sort -g | awk '{ v[NR] = $1 } END { print v[int((NR + 1) / 2)] }')
+near "$grid_median" 0 0.5 && pass "segments vs stored terrain grid: median |dz| $grid_median m" ||
+  fail "segments vs stored terrain grid: median |dz| $grid_median m"
+gdaldem hillshade -q "GPKG:$WORK/raster.gpkg:terrain" "$WORK/hillshade.tif" && pass "gdaldem shades the grid" ||
+  fail "gdaldem hillshade failed"
+
 # --- Monaco: raster with coastal voids vs UTM 32N comma-separated XYZ ----------------------
 "$SCRIPTS/make-derived-xyz.sh" "$ROADCROSS_MAPS_DIR/monaco/N43E007.hgt" EPSG:32632 \
   "366000 4840500 379500 4848500" 30 comma "$WORK/monaco_utm.csv"

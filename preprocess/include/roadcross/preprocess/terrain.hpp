@@ -118,10 +118,12 @@ struct TerrainReport {
 };
 
 /// Builds the terrain grid from the inputs (covering the roads plus the largest TPI radius),
-/// analyses it, and fills the terrain fields of every segment. Throws InputError for an
-/// unreadable file or when no input overlaps the roads at all.
+/// analyses it, and fills the terrain fields of every segment. The elevation grid (voids
+/// filled) is moved into `elevation_out` when given, for storing in the DB. Throws InputError
+/// for an unreadable file or when no input overlaps the roads at all.
 TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
-                              const TerrainParameters& parameters, Progress& progress);
+                              const TerrainParameters& parameters, Progress& progress,
+                              Grid* elevation_out = nullptr);
 
 /// The per-segment part of compute_terrain, on a ready model.
 void assign_terrain(RoadGraph& graph, const TerrainModel& model,

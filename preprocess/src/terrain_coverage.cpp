@@ -1,0 +1,110 @@
+#include "roadcross/preprocess/terrain_coverage.hpp"
+
+#include <cpl_conv.h>
+#include <cpl_error.h>
+#include <cpl_string.h>
+#include <gdal_priv.h>
+#include <ogr_spatialref.h>
+
+#include <cmath>
+#include <memory>
+#include <vector>
+
+#include "roadcross/preprocess/errors.hpp"
+
+namespace roadcross::preprocess {
+
+namespace {
+
+struct DatasetCloser {
+  void operator()(GDALDataset* d) const { GDALClose(d); }
+};
+
+/// Sets a GDAL configuration option for the lifetime of the object, then restores it.
+class ScopedConfig {
+ public:
+  ScopedConfig(const char* key, const std::string& value) : key_(key) {
+    if (const char* old = CPLGetConfigOption(key, nullptr)) old_ = old, had_ = true;
+    CPLSetThreadLocalConfigOption(key, value.c_str());
+  }
+  ~ScopedConfig() { CPLSetThreadLocalConfigOption(key_, had_ ? old_.c_str() : nullptr); }
+  ScopedConfig(const ScopedConfig&) = delete;
+  ScopedConfig& operator=(const ScopedConfig&) = delete;
+
+ private:
+  const char* key_;
+  std::string old_;
+  bool had_ = false;
+};
+
+/// The coverage's nodata value (GeoPackage coverages cannot record NaN).
+constexpr double kNoDataM = -9999.0;
+
+std::string gdal_message() {
+  const char* message = CPLGetLastErrorMsg();
+  return message && *message ? std::string(": ") + message : std::string();
+}
+
+}  // namespace
+
+void write_terrain_coverage(const std::string& gpkg_path, const Grid& elevation,
+                            const std::string& last_change) {
+  GDALAllRegister();
+  GDALDriver* driver = GetGDALDriverManager()->GetDriverByName("GPKG");
+  if (!driver) throw OutputError("GDAL has no GeoPackage driver");
+  // GDAL stamps gpkg_contents.last_change with "now" unless told otherwise.
+  const ScopedConfig date("OGR_CURRENT_DATE", last_change);
+  // GDAL's warnings (e.g. about the temporary file's extension) are not the user's business;
+  // its failures reach the user through the OutputErrors below.
+  CPLPushErrorHandler(CPLQuietErrorHandler);
+  struct PopHandler {
+    ~PopHandler() { CPLPopErrorHandler(); }
+  } pop_handler;
+  CPLErrorReset();
+  CPLStringList options;
+  options.SetNameValue("APPEND_SUBDATASET", "YES");
+  options.SetNameValue("RASTER_TABLE", kTerrainTable);
+  options.SetNameValue("RASTER_IDENTIFIER", "terrain elevation");
+  options.SetNameValue("RASTER_DESCRIPTION",
+                       "terrain grid of roadcross-build: elevation in metres, UTM, NaN = no data");
+  options.SetNameValue("TILE_FORMAT", "TIFF");  // float32 gridded coverage
+  options.SetNameValue("TILING_SCHEME", "CUSTOM");
+  // An in-memory raster with everything set, copied into the GeoPackage the way gdal_translate
+  // does it (the GPKG driver wants nodata, CRS and geotransform in a particular order).
+  const GridSpec& s = elevation.spec;
+  GDALDriver* memory = GetGDALDriverManager()->GetDriverByName("MEM");
+  std::unique_ptr<GDALDataset, DatasetCloser> source(memory->Create(
+      "", static_cast<int>(s.cols), static_cast<int>(s.rows), 1, GDT_Float32, nullptr));
+  if (!source) throw OutputError("cannot allocate the terrain grid's copy" + gdal_message());
+  double geotransform[6] = {s.west_m, s.cell_m, 0.0, s.north_m(), 0.0, -s.cell_m};
+  OGRSpatialReference utm;
+  utm.importFromEPSG(s.zone.epsg());
+  source->SetGeoTransform(geotransform);
+  source->SetSpatialRef(&utm);
+  GDALRasterBand* band = source->GetRasterBand(1);
+  band->SetNoDataValue(kNoDataM);
+  // Our rows run south to north, a raster's north to south: copy row by row, flipped.
+  std::vector<float> line(s.cols);
+  for (std::size_t row = 0; row < s.rows; ++row) {
+    for (std::size_t col = 0; col < s.cols; ++col) {
+      const float z = elevation.at(col, row);
+      line[col] = std::isnan(z) ? static_cast<float>(kNoDataM) : z;
+    }
+    const int raster_row = static_cast<int>(s.rows - 1 - row);
+    if (band->RasterIO(GF_Write, 0, raster_row, static_cast<int>(s.cols), 1, line.data(),
+                       static_cast<int>(s.cols), 1, GDT_Float32, 0, 0) != CE_None) {
+      throw OutputError("cannot fill the terrain grid's copy" + gdal_message());
+    }
+  }
+  std::unique_ptr<GDALDataset, DatasetCloser> dataset(
+      driver->CreateCopy(gpkg_path.c_str(), source.get(), FALSE, options.List(), nullptr, nullptr));
+  if (!dataset) throw OutputError(gpkg_path + ": cannot add the terrain grid" + gdal_message());
+  // GDAL 3.6 reports failures of the final flush only through its error state.
+  CPLErrorReset();
+  dataset.reset();
+  if (CPLGetLastErrorType() >= CE_Failure) {
+    throw OutputError(gpkg_path + ": cannot write the terrain grid" + gdal_message());
+  }
+}
+
+}  // namespace roadcross::preprocess
