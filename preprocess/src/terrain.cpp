@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <numeric>
 #include <thread>
 
 #include "roadcross/preprocess/errors.hpp"
@@ -43,6 +44,8 @@ void TerrainParameters::describe(std::vector<ParameterSpec>& out) {
   const std::string s = "terrain";
   out.push_back({s, "cell_size_m", &cell_size_m, 0.5, 100, false,
                  "terrain grid cell size in the DB's UTM zone, metres"});
+  out.push_back({s, "tile_size_m", &tile_size_m, 100, 1000000, false,
+                 "the grid is analysed in tiles of this size (+ a halo), metres"});
   out.push_back({s, "tpi_small_inner_m", &tpi_small_inner_m, 0, 10000, false,
                  "small TPI annulus: inner radius, metres"});
   out.push_back({s, "tpi_small_outer_m", &tpi_small_outer_m, 1, 10000, false,
@@ -320,26 +323,24 @@ std::optional<double> finite(double v) {
 }
 
 /// Elevation along a run of bridge/tunnel segments of a stroke, interpolated between the
-/// run's two ends (the structure's abutments or portals, which are on the ground).
+/// run's two ends (the structure's abutments or portals, which are on the ground), whose DEM
+/// elevations the samples hold as the end segments' start/end elevations.
 void assign_structure_run(RoadGraph& graph, const Stroke& stroke, std::size_t first,
-                          std::size_t last, const Grid& elevation) {
+                          std::size_t last, const std::vector<TerrainSample>& samples) {
   const StrokeSegment& a = stroke.segments[first];
   const StrokeSegment& b = stroke.segments[last];
-  const Segment& sa = graph.segments[a.segment];
-  const Segment& sb = graph.segments[b.segment];
-  const PlanePoint start = a.reversed ? sa.points.back() : sa.points.front();
-  const PlanePoint end = b.reversed ? sb.points.front() : sb.points.back();
-  double z0 = elevation.sample(start.x, start.y), z1 = elevation.sample(end.x, end.y);
+  double z0 = a.reversed ? samples[a.segment].z_end_m : samples[a.segment].z_start_m;
+  double z1 = b.reversed ? samples[b.segment].z_start_m : samples[b.segment].z_end_m;
   if (std::isnan(z0)) z0 = z1;
   if (std::isnan(z1)) z1 = z0;
+  if (std::isnan(z0)) return;  // neither end has elevation: NO_ELEVATION
   const double run_length = b.end_m - a.start_m;
+  const double grade_along_stroke = run_length > 0.0 ? (z1 - z0) / run_length : 0.0;
   for (std::size_t i = first; i <= last; ++i) {
     const StrokeSegment& ss = stroke.segments[i];
     Segment& s = graph.segments[ss.segment];
-    if (std::isnan(z0)) continue;  // neither end has elevation: NO_ELEVATION
     const double t =
         run_length > 0.0 ? (0.5 * (ss.start_m + ss.end_m) - a.start_m) / run_length : 0.5;
-    const double grade_along_stroke = run_length > 0.0 ? (z1 - z0) / run_length : 0.0;
     s.elevation_m = z0 + t * (z1 - z0);
     s.grade_percent = 100.0 * (ss.reversed ? -grade_along_stroke : grade_along_stroke);
     s.slope_deg = std::atan(std::abs(grade_along_stroke)) * kRadToDeg;
@@ -349,25 +350,49 @@ void assign_structure_run(RoadGraph& graph, const Stroke& stroke, std::size_t fi
 
 }  // namespace
 
-void assign_terrain(RoadGraph& graph, const TerrainModel& m, const TerrainParameters& p) {
+PlanePoint segment_midpoint(const Segment& s) {
+  return point_along(s.points, 0.5 * s.length_m);
+}
+
+void sample_terrain(const RoadGraph& graph, const TerrainModel& m,
+                    const std::vector<std::size_t>& segments, std::vector<TerrainSample>& samples) {
+  for (const std::size_t i : segments) {
+    const Segment& s = graph.segments[i];
+    const PlanePoint mid = segment_midpoint(s);
+    TerrainSample& t = samples[i];
+    t.z_mid_m = static_cast<float>(m.elevation.sample(mid.x, mid.y));
+    t.z_start_m = static_cast<float>(m.elevation.sample(s.points.front().x, s.points.front().y));
+    t.z_end_m = static_cast<float>(m.elevation.sample(s.points.back().x, s.points.back().y));
+    t.slope_deg = static_cast<float>(m.slope.sample(mid.x, mid.y));
+    t.tpi_small_m = static_cast<float>(m.tpi_small.sample(mid.x, mid.y));
+    t.tpi_large_m = static_cast<float>(m.tpi_large.sample(mid.x, mid.y));
+  }
+}
+
+TpiStandardisation standardisation(const GridStatistics& small, const GridStatistics& large,
+                                   const TerrainParameters& p) {
+  return {small, large, std::max(small.standard_deviation, p.tpi_small_min_sd_m),
+          std::max(large.standard_deviation, p.tpi_large_min_sd_m)};
+}
+
+void assign_terrain(RoadGraph& graph, const std::vector<TerrainSample>& samples,
+                    const TpiStandardisation& z, const TerrainParameters& p) {
   // The landform cost at each segment (NaN: unknown or a structure), for the windows.
   std::vector<double> landform_cost(graph.segments.size(), kNaN);
   for (std::size_t i = 0; i < graph.segments.size(); ++i) {
     Segment& s = graph.segments[i];
     if (s.bridge || s.tunnel) continue;  // elevation from the structure's ends, below
-    const PlanePoint mid = point_along(s.points, 0.5 * s.length_m);
-    s.elevation_m = finite(m.elevation.sample(mid.x, mid.y));
+    const TerrainSample& t = samples[i];
+    s.elevation_m = finite(t.z_mid_m);
     if (!s.elevation_m) continue;
-    s.slope_deg = finite(m.slope.sample(mid.x, mid.y));
-    const double z_start = m.elevation.sample(s.points.front().x, s.points.front().y);
-    const double z_end = m.elevation.sample(s.points.back().x, s.points.back().y);
-    if (s.length_m > 0.0) s.grade_percent = finite(100.0 * (z_end - z_start) / s.length_m);
-    s.tpi_small_m = finite(m.tpi_small.sample(mid.x, mid.y));
-    s.tpi_large_m = finite(m.tpi_large.sample(mid.x, mid.y));
+    s.slope_deg = finite(t.slope_deg);
+    if (s.length_m > 0.0) s.grade_percent = finite(100.0 * (t.z_end_m - t.z_start_m) / s.length_m);
+    s.tpi_small_m = finite(t.tpi_small_m);
+    s.tpi_large_m = finite(t.tpi_large_m);
     if (!s.tpi_small_m || !s.tpi_large_m) continue;
-    const Landform landform = classify_landform(
-        (*s.tpi_small_m - m.small_stats.mean) / m.small_sd_used,
-        (*s.tpi_large_m - m.large_stats.mean) / m.large_sd_used, s.slope_deg.value_or(0.0), p);
+    const Landform landform = classify_landform((*s.tpi_small_m - z.small.mean) / z.small_sd_used,
+                                                (*s.tpi_large_m - z.large.mean) / z.large_sd_used,
+                                                s.slope_deg.value_or(0.0), p);
     s.landform = std::string(landform_name(landform));
     landform_cost[i] = p.landform_cost[static_cast<std::size_t>(landform)];
     if (is_crest_or_dip(landform)) s.reasons.emplace_back("CREST_OR_DIP");
@@ -385,7 +410,7 @@ void assign_terrain(RoadGraph& graph, const TerrainModel& m, const TerrainParame
       }
       std::size_t last = i;
       while (last + 1 < stroke.segments.size() && is_structure(last + 1)) ++last;
-      assign_structure_run(graph, stroke, i, last, m.elevation);
+      assign_structure_run(graph, stroke, i, last, samples);
       i = last + 1;
     }
     std::vector<double> costs;
@@ -412,24 +437,39 @@ void assign_terrain(RoadGraph& graph, const TerrainModel& m, const TerrainParame
   }
 }
 
-namespace {
-
-/// Every road point's UTM bounding box.
-void road_bounds(const RoadGraph& graph, double& min_e, double& min_n, double& max_e,
-                 double& max_n) {
-  min_e = min_n = std::numeric_limits<double>::infinity();
-  max_e = max_n = -std::numeric_limits<double>::infinity();
-  for (const Segment& s : graph.segments) {
-    for (const PlanePoint& q : s.points) {
-      min_e = std::min(min_e, q.x), max_e = std::max(max_e, q.x);
-      min_n = std::min(min_n, q.y), max_n = std::max(max_n, q.y);
-    }
-  }
+void assign_terrain(RoadGraph& graph, const TerrainModel& m, const TerrainParameters& p) {
+  std::vector<std::size_t> all(graph.segments.size());
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
+  std::vector<TerrainSample> samples(graph.segments.size());
+  sample_terrain(graph, m, all, samples);
+  assign_terrain(graph, samples, standardisation(m.small_stats, m.large_stats, p), p);
 }
 
-std::size_t fill_from_xyz_files(Grid& grid, const std::vector<const ElevationSource*>& files,
-                                const std::string& crs_given, const TerrainParameters& p,
-                                TerrainReport& report) {
+namespace {
+
+struct Bounds {
+  double min_e = std::numeric_limits<double>::infinity();
+  double min_n = std::numeric_limits<double>::infinity();
+  double max_e = -std::numeric_limits<double>::infinity();
+  double max_n = -std::numeric_limits<double>::infinity();
+};
+
+/// Every road point's UTM bounding box.
+Bounds road_bounds(const RoadGraph& graph) {
+  Bounds b;
+  for (const Segment& s : graph.segments) {
+    for (const PlanePoint& q : s.points) {
+      b.min_e = std::min(b.min_e, q.x), b.max_e = std::max(b.max_e, q.x);
+      b.min_n = std::min(b.min_n, q.y), b.max_n = std::max(b.max_n, q.y);
+    }
+  }
+  return b;
+}
+
+/// All XYZ points of all files, in UTM (one TIN per tile is made from them).
+std::vector<ElevationPoint> read_xyz_files(const std::vector<const ElevationSource*>& files,
+                                           const std::string& crs_given, const geo::UtmZone& zone,
+                                           TerrainReport& report) {
   std::vector<ElevationPoint> points;
   for (const ElevationSource* source : files) {
     std::vector<ElevationPoint> file_points = read_xyz(source->path);
@@ -437,58 +477,172 @@ std::size_t fill_from_xyz_files(Grid& grid, const std::vector<const ElevationSou
         crs_given.empty() ? detect_xyz_crs(source->path, file_points) : crs_given;
     if (!report.xyz_crs.empty() && report.xyz_crs != crs) {
       throw InputError(source->path, "its points look like " + crs +
-                                         " but an earlier XYZ file's "
-                                         "like " +
-                                         report.xyz_crs + "; give --elevation-crs");
+                                         " but an earlier XYZ file's like " + report.xyz_crs +
+                                         "; give --elevation-crs");
     }
     report.xyz_crs = crs;
-    const CrsTransform transform(crs, grid.spec.zone);
+    const CrsTransform transform(crs, zone);
     std::vector<double> x(file_points.size()), y(file_points.size());
-    for (std::size_t i = 0; i < file_points.size(); ++i)
+    for (std::size_t i = 0; i < file_points.size(); ++i) {
       x[i] = file_points[i].x, y[i] = file_points[i].y;
+    }
     transform.to_utm(x, y);
     for (std::size_t i = 0; i < file_points.size(); ++i) {
-      if (std::isnan(x[i])) continue;
-      points.push_back({x[i], y[i], file_points[i].z});
+      if (!std::isnan(x[i])) points.push_back({x[i], y[i], file_points[i].z});
     }
   }
   report.xyz_points = points.size();
-  return fill_from_points(grid, points, p.tin_max_edge_m);
+  return points;
 }
+
+/// Running sums for the TPI statistics over the tiles' core cells.
+struct RunningStatistics {
+  double sum = 0.0, sum_sq = 0.0;
+  std::size_t count = 0;
+  void add(float v) {
+    if (std::isnan(v)) return;
+    sum += v, sum_sq += double(v) * v, ++count;
+  }
+  GridStatistics result() const {
+    GridStatistics out;
+    out.count = count;
+    if (count == 0) return out;
+    out.mean = sum / double(count);
+    out.standard_deviation = std::sqrt(std::max(0.0, sum_sq / double(count) - out.mean * out.mean));
+    return out;
+  }
+};
+
+/// The terrain grid is worked on in square tiles of the road network's bounding box, each with a
+/// halo of one large TPI radius, so memory follows the tile, not the map.
+struct TileLayout {
+  double west_m = 0.0, south_m = 0.0, size_m = 0.0;
+  std::size_t cols = 1, rows = 1;
+  std::size_t tile_of(const PlanePoint& p) const {
+    const auto col =
+        std::min(cols - 1, static_cast<std::size_t>(std::max(0.0, (p.x - west_m) / size_m)));
+    const auto row =
+        std::min(rows - 1, static_cast<std::size_t>(std::max(0.0, (p.y - south_m) / size_m)));
+    return row * cols + col;
+  }
+};
+
+/// Copies the cells of `stored` that the tile owns from the tile's grid (bilinear: exact where
+/// the cells coincide, i.e. when stored at full resolution).
+template <typename Owns>
+void copy_owned(const Grid& tile, const Owns& owns, Grid& stored) {
+  const GridSpec& g = stored.spec;
+  for (std::size_t row = 0; row < g.rows; ++row) {
+    const double y = g.centre_northing(row);
+    if (y < tile.spec.south_m || y > tile.spec.north_m()) continue;
+    for (std::size_t col = 0; col < g.cols; ++col) {
+      const double x = g.centre_easting(col);
+      if (owns(x, y)) stored.at(col, row) = static_cast<float>(tile.sample(x, y));
+    }
+  }
+}
+
+/// Cells of the grid kept in the DB: the terrain at the analysis resolution, or coarser by a
+/// whole factor when that would exceed this many cells (a country at 5 m would be billions).
+constexpr double kStoredGridMaxCells = 40e6;
 
 }  // namespace
 
 TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
                               const TerrainParameters& p, Progress& progress, Grid* elevation_out) {
   TerrainReport report;
-  double min_e, min_n, max_e, max_n;
-  road_bounds(graph, min_e, min_n, max_e, max_n);
-  // The grid reaches one large TPI radius beyond the roads so that road cells see whole annuli.
-  const GridSpec spec = grid_covering(graph.zone, min_e, min_n, max_e, max_n,
-                                      p.tpi_large_outer_m + p.cell_size_m, p.cell_size_m);
-  report.grid = spec;
-  Grid elevation(spec);
+  const Bounds roads = road_bounds(graph);
+  // The whole grid reaches one large TPI radius beyond the roads so that road cells see whole
+  // annuli; it is never held at once, only tile by tile.
+  const double halo_m = p.tpi_large_outer_m + p.cell_size_m;
+  // Tile grids start on multiples of the TPI blocks, so that a cell's blocks (and so its TPI)
+  // are the same whichever tile computes it.
+  const double align_m =
+      p.cell_size_m * double(std::lcm(block_factor(p.tpi_small_outer_m / p.cell_size_m),
+                                      block_factor(p.tpi_large_outer_m / p.cell_size_m)));
+  report.grid = grid_covering(graph.zone, roads.min_e, roads.min_n, roads.max_e, roads.max_n,
+                              halo_m, p.cell_size_m, align_m);
+  TileLayout layout;
+  layout.west_m = roads.min_e, layout.south_m = roads.min_n, layout.size_m = p.tile_size_m;
+  layout.cols = std::max<std::size_t>(
+      1, static_cast<std::size_t>(std::ceil((roads.max_e - roads.min_e) / p.tile_size_m)));
+  layout.rows = std::max<std::size_t>(
+      1, static_cast<std::size_t>(std::ceil((roads.max_n - roads.min_n) / p.tile_size_m)));
+  std::vector<std::vector<std::size_t>> segments_of_tile(layout.cols * layout.rows);
+  for (std::size_t i = 0; i < graph.segments.size(); ++i) {
+    segments_of_tile[layout.tile_of(segment_midpoint(graph.segments[i]))].push_back(i);
+  }
 
-  progress.start_stage("terrain grid");
-  // In the order given; all XYZ files form one TIN, filled at the place of the first of them.
+  const std::size_t factor = std::max<std::size_t>(
+      1, static_cast<std::size_t>(
+             std::ceil(std::sqrt(double(report.grid.size()) / kStoredGridMaxCells))));
+  Grid stored(grid_covering(graph.zone, roads.min_e, roads.min_n, roads.max_e, roads.max_n, halo_m,
+                            p.cell_size_m * double(factor), align_m));
+
+  progress.start_stage("terrain", "tiles");
   std::vector<const ElevationSource*> xyz_files;
   for (const ElevationSource& s : inputs.sources) {
     if (s.kind == ElevationKind::xyz) xyz_files.push_back(&s);
   }
-  bool xyz_done = false;
-  for (const ElevationSource& source : inputs.sources) {
-    std::size_t filled = 0;
-    if (source.kind == ElevationKind::raster) {
-      filled = fill_from_raster(elevation, source.path);
-    } else if (!xyz_done) {
-      filled = fill_from_xyz_files(elevation, xyz_files, inputs.xyz_crs, p, report);
-      xyz_done = true;
-    } else {
-      continue;
+  const std::vector<ElevationPoint> xyz_points =
+      xyz_files.empty() ? std::vector<ElevationPoint>{}
+                        : read_xyz_files(xyz_files, inputs.xyz_crs, graph.zone, report);
+  std::vector<std::size_t> cells_per_source(inputs.sources.size(), 0);
+  std::vector<TerrainSample> samples(graph.segments.size());
+  RunningStatistics small_stats, large_stats;
+  std::size_t tiles_done = 0, tiles_total = 0;
+  for (const auto& tile_segments : segments_of_tile) tiles_total += tile_segments.empty() ? 0 : 1;
+
+  for (std::size_t tile = 0; tile < segments_of_tile.size(); ++tile) {
+    if (segments_of_tile[tile].empty()) continue;
+    // The tile's core, clipped to the roads' box (its cells are the tile's share of the
+    // statistics and of the stored grid), and its grid: the core plus the halo.
+    const double tile_w = layout.west_m + double(tile % layout.cols) * layout.size_m;
+    const double tile_s = layout.south_m + double(tile / layout.cols) * layout.size_m;
+    const double core_w = std::max(tile_w, roads.min_e), core_s = std::max(tile_s, roads.min_n);
+    const double core_e = std::min(tile_w + layout.size_m, roads.max_e);
+    const double core_n = std::min(tile_s + layout.size_m, roads.max_n);
+    Grid elevation(
+        grid_covering(graph.zone, core_w, core_s, core_e, core_n, halo_m, p.cell_size_m, align_m));
+    // In the order given; all XYZ files form one TIN, filled at the place of the first of them.
+    bool xyz_done = false;
+    for (std::size_t k = 0; k < inputs.sources.size(); ++k) {
+      if (inputs.sources[k].kind == ElevationKind::raster) {
+        cells_per_source[k] += fill_from_raster(elevation, inputs.sources[k].path);
+      } else if (!xyz_done) {
+        cells_per_source[k] += fill_from_points(elevation, xyz_points, p.tin_max_edge_m);
+        xyz_done = true;
+      }
     }
-    report.cells_per_source.emplace_back(source.path, filled);
+    report.voids_filled += fill_voids(elevation, p.void_fill_max_m);
+    const TerrainModel model = analyse_terrain(std::move(elevation), p);
+    // The tile's own cells: those of the whole grid whose centres fall in this tile (the outer
+    // tiles reach to the whole grid's edge). Each cell counts once in the statistics.
+    const auto owns = [&](double e, double n) {
+      return e >= report.grid.west_m && e < report.grid.east_m() && n >= report.grid.south_m &&
+             n < report.grid.north_m() && layout.tile_of({e, n}) == tile;
+    };
+    const GridSpec& g = model.elevation.spec;
+    for (std::size_t row = 0; row < g.rows; ++row) {
+      for (std::size_t col = 0; col < g.cols; ++col) {
+        if (!owns(g.centre_easting(col), g.centre_northing(row))) continue;
+        report.cells_with_elevation += std::isnan(model.elevation.at(col, row)) ? 0 : 1;
+        small_stats.add(model.tpi_small.at(col, row));
+        large_stats.add(model.tpi_large.at(col, row));
+      }
+    }
+    copy_owned(model.elevation, owns, stored);
+    sample_terrain(graph, model, segments_of_tile[tile], samples);
+    progress.update(++tiles_done, tiles_total);
   }
-  report.cells_with_elevation = elevation.count_valid();
+  bool xyz_reported = false;  // the TIN of all XYZ files is counted at the first of them
+  for (std::size_t k = 0; k < inputs.sources.size(); ++k) {
+    if (inputs.sources[k].kind == ElevationKind::xyz) {
+      if (xyz_reported) continue;
+      xyz_reported = true;
+    }
+    report.cells_per_source.emplace_back(inputs.sources[k].path, cells_per_source[k]);
+  }
   if (report.cells_with_elevation == 0) {
     std::string files;
     for (const ElevationSource& s : inputs.sources) files += (files.empty() ? "" : ", ") + s.path;
@@ -496,23 +650,20 @@ TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
                      "the elevation data does not overlap the roads of the OSM extract at "
                      "all (wrong file, or wrong --elevation-crs?)");
   }
-  report.voids_filled = fill_voids(elevation, p.void_fill_max_m);
-  report.cells_with_elevation += report.voids_filled;
-  progress.finish_stage(std::to_string(spec.cols) + " x " + std::to_string(spec.rows) +
-                        " cells of " + format_number(spec.cell_m) + " m, " +
-                        std::to_string(report.voids_filled) + " void cells filled");
-
-  progress.start_stage("terrain analysis");
-  TerrainModel model = analyse_terrain(std::move(elevation), p);
-  assign_terrain(graph, model, p);
-  if (elevation_out) *elevation_out = std::move(model.elevation);
+  const TpiStandardisation z = standardisation(small_stats.result(), large_stats.result(), p);
+  assign_terrain(graph, samples, z, p);
   for (const Segment& s : graph.segments) {
     report.segments_without_elevation += s.elevation_cost ? 0 : 1;
     report.structure_segments += (s.bridge || s.tunnel) ? 1 : 0;
   }
-  progress.finish_stage(std::to_string(graph.segments.size() - report.segments_without_elevation) +
-                        " segments with elevation, " +
-                        std::to_string(report.segments_without_elevation) + " without");
+  report.tiles = tiles_total;
+  report.stored_cell_m = stored.spec.cell_m;
+  if (elevation_out) *elevation_out = std::move(stored);
+  progress.finish_stage(
+      std::to_string(tiles_total) + " tiles of " + format_number(p.tile_size_m / 1000.0) + " km, " +
+      std::to_string(graph.segments.size() - report.segments_without_elevation) +
+      " segments with elevation, " + std::to_string(report.segments_without_elevation) +
+      " without, " + std::to_string(report.voids_filled) + " void cells filled");
   return report;
 }
 

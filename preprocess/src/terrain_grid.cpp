@@ -17,12 +17,13 @@
 namespace roadcross::preprocess {
 
 GridSpec grid_covering(const geo::UtmZone& zone, double min_e, double min_n, double max_e,
-                       double max_n, double margin_m, double cell_m) {
+                       double max_n, double margin_m, double cell_m, double align_m) {
+  if (!(align_m > 0.0)) align_m = cell_m;
   GridSpec spec;
   spec.zone = zone;
   spec.cell_m = cell_m;
-  spec.west_m = std::floor((min_e - margin_m) / cell_m) * cell_m;
-  spec.south_m = std::floor((min_n - margin_m) / cell_m) * cell_m;
+  spec.west_m = std::floor((min_e - margin_m) / align_m) * align_m;
+  spec.south_m = std::floor((min_n - margin_m) / align_m) * align_m;
   spec.cols = static_cast<std::size_t>(std::ceil((max_e + margin_m - spec.west_m) / cell_m));
   spec.rows = static_cast<std::size_t>(std::ceil((max_n + margin_m - spec.south_m) / cell_m));
   return spec;

@@ -527,3 +527,31 @@ TEST(TerrainBuild, RoadUpAPlaneHasItsGradeSlopeAndCost) {
   }
   EXPECT_EQ(rows, 120);
 }
+
+TEST(TerrainBuild, TilesGiveTheSameTermsAsOneGrid) {
+  // The road over the hill analysed as one 10 km tile and as 150 m tiles (8 tiles along the
+  // road, each with its own 305 m halo): every segment's terms must agree, since a cell's
+  // annuli, blocks and voids do not depend on the tile that computes it.
+  TempDir dir;
+  const std::string tif = write_geotiff(dir.file("hill.tif"), gaussian_hill, 1500.0, 10.0);
+  const rp::BuildSummary one = build(dir, road_across(), {tif}, "", "one.gpkg");
+  rp::BuildOptions options;
+  options.osm_path = dir.write("road.osm", road_across());
+  options.output_path = dir.file("tiled.gpkg");
+  options.parameters.segments.max_segment_length_m = 10.01;
+  options.parameters.terrain.tile_size_m = 150.0;
+  options.elevation.sources.push_back({tif, rp::ElevationKind::raster});
+  const rp::BuildSummary tiled = rp::run_build(options);
+  EXPECT_EQ(one.terrain.tiles, 1u);
+  EXPECT_EQ(tiled.terrain.tiles, 8u);  // 1200 m of road / 150 m
+  const auto a = read_segments(dir.file("one.gpkg"));
+  const auto b = read_segments(dir.file("tiled.gpkg"));
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_NEAR(*a[i].elevation_m, *b[i].elevation_m, 1e-4) << i;
+    EXPECT_NEAR(*a[i].grade_percent, *b[i].grade_percent, 1e-4) << i;
+    EXPECT_EQ(a[i].landform, b[i].landform) << i;
+    EXPECT_EQ(a[i].elevation_cost, b[i].elevation_cost) << i;
+    EXPECT_EQ(a[i].reasons, b[i].reasons) << i;
+  }
+}

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -44,6 +45,9 @@ bool is_crest_or_dip(Landform landform) noexcept;
 struct TerrainParameters {
   /// Terrain grid cell size, metres.
   double cell_size_m = 5.0;
+  /// The grid is analysed in square tiles of this size (plus a halo of the large TPI radius),
+  /// so that memory follows the tile, not the map; metres.
+  double tile_size_m = 10000.0;
   /// TPI neighbourhoods: annuli between an inner and an outer radius, metres.
   double tpi_small_inner_m = 10.0, tpi_small_outer_m = 50.0;
   double tpi_large_inner_m = 100.0, tpi_large_outer_m = 300.0;
@@ -100,6 +104,32 @@ struct TerrainModel {
 };
 TerrainModel analyse_terrain(Grid elevation, const TerrainParameters& parameters);
 
+/// What a segment samples from the terrain model of its tile (NaN: no value).
+struct TerrainSample {
+  float z_mid_m = NAN, z_start_m = NAN, z_end_m = NAN;
+  float slope_deg = NAN, tpi_small_m = NAN, tpi_large_m = NAN;
+};
+
+/// The midpoint of a segment along its line (where it samples the terrain).
+PlanePoint segment_midpoint(const Segment& segment);
+
+/// Samples the model at the segments listed (indices into graph.segments).
+void sample_terrain(const RoadGraph& graph, const TerrainModel& model,
+                    const std::vector<std::size_t>& segments, std::vector<TerrainSample>& samples);
+
+/// TPI statistics over the whole map and the standard deviations used (after the floors).
+struct TpiStandardisation {
+  GridStatistics small, large;
+  double small_sd_used = 1.0, large_sd_used = 1.0;
+};
+TpiStandardisation standardisation(const GridStatistics& small, const GridStatistics& large,
+                                   const TerrainParameters& parameters);
+
+/// From every segment's sample: the terrain fields, landform, CREST_OR_DIP, bridges and tunnels
+/// from their ends, the windowed elevation cost, and NO_ELEVATION where there is none.
+void assign_terrain(RoadGraph& graph, const std::vector<TerrainSample>& samples,
+                    const TpiStandardisation& standardisation, const TerrainParameters& parameters);
+
 struct TerrainInputs {
   std::vector<ElevationSource>
       sources;          ///< in the order given; earlier ones win where they overlap
@@ -107,7 +137,9 @@ struct TerrainInputs {
 };
 
 struct TerrainReport {
-  GridSpec grid;
+  GridSpec grid;  ///< the whole terrain grid (analysed tile by tile, never held at once)
+  std::size_t tiles = 0;
+  double stored_cell_m = 0.0;  ///< cell size of the grid stored in the DB
   std::size_t cells_with_elevation = 0;
   std::size_t voids_filled = 0;
   std::size_t xyz_points = 0;
@@ -117,15 +149,16 @@ struct TerrainReport {
   std::vector<std::pair<std::string, std::size_t>> cells_per_source;
 };
 
-/// Builds the terrain grid from the inputs (covering the roads plus the largest TPI radius),
-/// analyses it, and fills the terrain fields of every segment. The elevation grid (voids
-/// filled) is moved into `elevation_out` when given, for storing in the DB. Throws InputError
+/// Builds the terrain grid from the inputs (covering the roads plus the largest TPI radius) tile
+/// by tile, analyses each tile, standardises TPI over the whole map and fills the terrain fields
+/// of every segment. The elevation grid (voids filled; coarser when it would exceed 40 M cells)
+/// is moved into `elevation_out` when given, for storing in the DB. Throws InputError
 /// for an unreadable file or when no input overlaps the roads at all.
 TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
                               const TerrainParameters& parameters, Progress& progress,
                               Grid* elevation_out = nullptr);
 
-/// The per-segment part of compute_terrain, on a ready model.
+/// The per-segment part of compute_terrain on one model covering every segment (tests).
 void assign_terrain(RoadGraph& graph, const TerrainModel& model,
                     const TerrainParameters& parameters);
 

@@ -30,10 +30,11 @@ struct GridSpec {
   std::size_t size() const { return cols * rows; }
 };
 
-/// The grid covering the box [min_e, max_e] x [min_n, max_n] (UTM metres) grown by `margin_m`
-/// on every side, its edges on multiples of `cell_m` (so that the same roads give the same grid).
+/// The grid of `cell_m` cells covering the box [min_e, max_e] x [min_n, max_n] (UTM metres)
+/// grown by `margin_m` on every side, its south-west corner on a multiple of `align_m` (default:
+/// the cell size) so that the same roads give the same grid and overlapping grids share cells.
 GridSpec grid_covering(const geo::UtmZone& zone, double min_e, double min_n, double max_e,
-                       double max_n, double margin_m, double cell_m);
+                       double max_n, double margin_m, double cell_m, double align_m = 0.0);
 
 /// A float raster over a GridSpec; NaN marks "no value".
 struct Grid {
