@@ -1,5 +1,7 @@
 #include "roadcross/preprocess/progress.hpp"
 
+#include <sys/resource.h>
+
 #include <unistd.h>
 
 #include <cstdio>
@@ -46,7 +48,9 @@ void Progress::update(std::uint64_t done, std::uint64_t total) {
 void Progress::finish_stage(const std::string& summary) {
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - stage_start_).count();
-  stages_.push_back({stage_, seconds, summary});
+  struct rusage usage {};
+  const std::int64_t peak_kib = ::getrusage(RUSAGE_SELF, &usage) == 0 ? usage.ru_maxrss : 0;
+  stages_.push_back({stage_, seconds, summary, peak_kib});
   char text[64];
   std::snprintf(text, sizeof text, " (%.2f s)", seconds);
   draw(stage_ + ": " + summary + text);

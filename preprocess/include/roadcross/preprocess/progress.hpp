@@ -14,6 +14,7 @@ struct StageRecord {
   std::string name;
   double seconds = 0.0;
   std::string summary;
+  std::int64_t peak_rss_kib = 0;  ///< the process's peak resident memory when the stage ended
 };
 
 class Progress {
