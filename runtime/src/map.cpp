@@ -178,89 +178,97 @@ Result<Map> Map::open(const std::string& path) noexcept {
   }
 }
 
-Result<PlanePoint> Map::to_utm(const Position& position) const noexcept {
+Status Map::Impl::to_plane(const Position& position, schema::PlanePoint& out) const noexcept {
   if (!std::isfinite(position.first) || !std::isfinite(position.second)) {
-    return fail<PlanePoint>(StatusCode::invalid_argument,
-                            "position has a NaN or infinite coordinate");
+    return {StatusCode::invalid_argument, "position has a NaN or infinite coordinate"};
   }
   if (position.kind == Position::Kind::utm) {
-    return Result<PlanePoint>{Status{}, PlanePoint{position.first, position.second}};
+    out = {position.first, position.second};
+    return {};
   }
   try {
-    const geo::UtmPoint p = geo::wgs84_to_utm(position.first, position.second, impl_->info.zone);
-    return Result<PlanePoint>{Status{}, PlanePoint{p.easting_m, p.northing_m}};
+    const geo::UtmPoint p = geo::wgs84_to_utm(position.first, position.second, info.zone);
+    out = {p.easting_m, p.northing_m};
+    return {};
   } catch (const std::exception& e) {
-    return fail<PlanePoint>(StatusCode::invalid_argument, e.what());
+    return {StatusCode::invalid_argument, e.what()};
   }
 }
 
-namespace {
+Result<PlanePoint> Map::to_utm(const Position& position) const noexcept {
+  schema::PlanePoint p;
+  Status status = impl_->to_plane(position, p);
+  if (!status.ok()) return Result<PlanePoint>{std::move(status), std::nullopt};
+  return Result<PlanePoint>{Status{}, PlanePoint{p.x, p.y}};
+}
 
-struct BestMatch {
-  std::int64_t segment_id = -1;
-  detail::PolylineProjection projection;
-};
-
-}  // namespace
+Status Map::Impl::locate(const Position& position, double max_distance_m, NearestRoad& road) {
+  schema::PlanePoint p;
+  Status status = to_plane(position, p);
+  if (!status.ok()) return status;
+  std::int64_t best_id = -1;
+  detail::PolylineProjection best;
+  best.distance_m = std::numeric_limits<double>::infinity();
+  // Grow the search box until the best candidate is inside the searched radius: then no
+  // segment outside the box can be nearer, since its bounding box would intersect it.
+  for (double radius_m = std::min(16.0, max_distance_m);;
+       radius_m = std::min(radius_m * 2.0, max_distance_m)) {
+    sqlite::Statement& stmt = queries.candidates;
+    stmt.bind(1, p.x - radius_m);
+    stmt.bind(2, p.x + radius_m);
+    stmt.bind(3, p.y - radius_m);
+    stmt.bind(4, p.y + radius_m);
+    while (stmt.step()) {
+      if (!schema::decode_linestring(stmt.column_blob(1), scratch)) {
+        const std::int64_t fid = stmt.column_int64(0);
+        stmt.reset();
+        throw std::runtime_error("segment " + std::to_string(fid) + " has a malformed geometry");
+      }
+      const auto projection = detail::project_onto_polyline(scratch, p);
+      if (projection.distance_m < best.distance_m) {
+        best_id = stmt.column_int64(0);
+        best = projection;
+        best_geometry.swap(scratch);
+      }
+    }
+    stmt.reset();
+    if (best.distance_m <= radius_m || radius_m >= max_distance_m) break;
+  }
+  if (best_id < 0 || best.distance_m > max_distance_m) {
+    char text[160];
+    std::snprintf(text, sizeof text, "no road within %g m of E %.1f N %.1f (UTM zone %d%s)",
+                  max_distance_m, p.x, p.y, info.zone.zone, info.zone.northern ? "N" : "S");
+    return {StatusCode::not_found, text};
+  }
+  road.segment_id = best_id;
+  road.query = {p.x, p.y};
+  road.closest = {best.closest.x, best.closest.y};
+  road.distance_m = best.distance_m;
+  return {};
+}
 
 Result<NearestRoad> Map::nearest(const Position& position, double max_distance_m) noexcept {
   if (!(max_distance_m > 0.0)) {
     return fail<NearestRoad>(StatusCode::invalid_argument, "max_distance_m must be > 0");
   }
-  const Result<PlanePoint> query = to_utm(position);
-  if (!query.ok()) return fail<NearestRoad>(query.status.code, query.status.message);
-  const schema::PlanePoint p{query->easting_m, query->northing_m};
   try {
     Impl& impl = *impl_;
-    BestMatch best;
-    best.projection.distance_m = std::numeric_limits<double>::infinity();
-    // Grow the search box until the best candidate is inside the searched radius: then no
-    // segment outside the box can be nearer, since its bounding box would intersect it.
-    for (double radius_m = std::min(16.0, max_distance_m);;
-         radius_m = std::min(radius_m * 2.0, max_distance_m)) {
-      sqlite::Statement& stmt = impl.queries.candidates;
-      stmt.bind(1, p.x - radius_m);
-      stmt.bind(2, p.x + radius_m);
-      stmt.bind(3, p.y - radius_m);
-      stmt.bind(4, p.y + radius_m);
-      while (stmt.step()) {
-        if (!schema::decode_linestring(stmt.column_blob(1), impl.scratch)) {
-          const std::int64_t fid = stmt.column_int64(0);
-          stmt.reset();
-          throw std::runtime_error("segment " + std::to_string(fid) + " has a malformed geometry");
-        }
-        const auto projection = detail::project_onto_polyline(impl.scratch, p);
-        if (projection.distance_m < best.projection.distance_m) {
-          best = {stmt.column_int64(0), projection};
-          impl.best_geometry.swap(impl.scratch);
-        }
-      }
-      stmt.reset();
-      if (best.projection.distance_m <= radius_m || radius_m >= max_distance_m) break;
-    }
-    if (best.segment_id < 0 || best.projection.distance_m > max_distance_m) {
-      char text[160];
-      std::snprintf(text, sizeof text, "no road within %g m of E %.1f N %.1f (UTM zone %d%s)",
-                    max_distance_m, p.x, p.y, impl.info.zone.zone,
-                    impl.info.zone.northern ? "N" : "S");
-      return fail<NearestRoad>(StatusCode::not_found, text);
-    }
     NearestRoad road;
-    road.segment_id = best.segment_id;
-    road.query = {p.x, p.y};
-    road.closest = {best.projection.closest.x, best.projection.closest.y};
-    road.distance_m = best.projection.distance_m;
+    Status status = impl.locate(position, max_distance_m, road);
+    if (!status.ok()) return Result<NearestRoad>{std::move(status), std::nullopt};
     sqlite::Statement& attributes = impl.queries.attributes;
-    attributes.bind(1, best.segment_id);
+    attributes.bind(1, road.segment_id);
     if (attributes.step()) {
       road.osm_way_id = attributes.column_int64(0);
-      road.highway = attributes.column_text(1);
-      road.name = attributes.column_text(2);
+      road.highway = attributes.column_text_view(1);
+      road.name = attributes.column_text_view(2);
       road.segment_length_m = attributes.column_double(3);
     }
     attributes.reset();
     return Result<NearestRoad>{Status{}, std::move(road)};
   } catch (const std::exception& e) {
+    impl_->queries.candidates.reset();
+    impl_->queries.attributes.reset();
     return fail<NearestRoad>(StatusCode::corrupt_database, impl_->info.path + ": " + e.what());
   }
 }

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "polyline.hpp"
 #include "roadcross/runtime.hpp"
 #include "roadcross/schema/gpkg_geometry.hpp"
 #include "roadcross/schema/schema.hpp"
@@ -17,8 +18,9 @@ namespace detail {
 /// Prepared once per Map, reused by every query (SQLite's advice for hot paths).
 struct Queries {
   sqlite::Statement candidates;  ///< segments whose R*Tree box meets a query box
-  sqlite::Statement attributes;  ///< identity of one segment
-  sqlite::Statement cost_terms;  ///< every cost column of one segment
+  sqlite::Statement attributes;  ///< identity of one segment (nearest)
+  /// Identity and every cost column of one segment, in one row read (assess).
+  sqlite::Statement assessment;
 
   explicit Queries(sqlite::Database& db);
 };
@@ -46,6 +48,15 @@ struct Map::Impl {
         info(std::move(map_info)),
         queries(db),
         thresholds(detail::thresholds_from(info)) {}
+
+  /// The position in the map's UTM zone, or invalid_argument.
+  Status to_plane(const Position& position, schema::PlanePoint& out) const noexcept;
+
+  /// The nearest segment within max_distance_m (> 0, checked by the caller): fills the
+  /// segment id, query, closest point and distance of `road` (not its attributes), and leaves
+  /// the segment's geometry in best_geometry. invalid_argument or not_found otherwise; throws
+  /// on an SQLite error or a malformed geometry.
+  Status locate(const Position& position, double max_distance_m, NearestRoad& road);
 };
 
 }  // namespace roadcross
