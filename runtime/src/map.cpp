@@ -44,6 +44,10 @@ constexpr const char* kRebuildHint =
     "Rebuild it with this version's roadcross-build (roadcross-build --osm MAP.osm.pbf -o "
     "OUT.gpkg).";
 
+/// Address space for reading the DB through a memory map (SQLite caps it at its compile-time
+/// SQLITE_MAX_MMAP_SIZE, 2 GB by default); pages beyond it are read with pread().
+constexpr std::int64_t kMmapBytes = std::int64_t{1} << 30;
+
 template <typename T>
 Result<T> fail(StatusCode code, std::string message) {
   return Result<T>{Status{code, std::move(message)}, std::nullopt};
@@ -158,6 +162,12 @@ Result<Map> Map::open(const std::string& path) noexcept {
           path + ": no such file. Build one with roadcross-build --osm MAP -o " + path);
     }
     sqlite::Database db(path, SQLITE_OPEN_READONLY | SQLITE_OPEN_NOMUTEX);
+    // Hot-path settings (docs/runtime.md, "The DB file while a Map is open"): keep the shared
+    // lock from the first read on, so a statement neither takes and drops a file lock nor checks
+    // for a hot journal and a changed file (three system calls per statement otherwise), and
+    // read pages through a memory map instead of one pread() each.
+    db.exec("PRAGMA locking_mode = EXCLUSIVE");
+    db.exec("PRAGMA mmap_size = " + std::to_string(kMmapBytes));
     MapInfo info;
     info.path = path;
     Status status = read_metadata(db, info);
