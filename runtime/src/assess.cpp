@@ -26,7 +26,11 @@ Queries::Queries(sqlite::Database& db)
       attributes(db.prepare("SELECT osm_way_id, highway, name, length_m FROM " +
                             std::string(schema::kSegmentsTable) + " WHERE fid = ?1")),
       assessment(db.prepare(std::string("SELECT ") + kAssessColumns + " FROM " +
-                            std::string(schema::kSegmentsTable) + " WHERE fid = ?1")) {}
+                            std::string(schema::kSegmentsTable) + " WHERE fid = ?1")),
+      rtree_holder(
+          db.prepare("SELECT id FROM " + std::string(schema::kSegmentsRtree) + " LIMIT 1")) {
+  rtree_holder.step();
+}
 
 Thresholds thresholds_from(const MapInfo& info) {
   Thresholds t;
