@@ -28,7 +28,12 @@ Queries::Queries(sqlite::Database& db)
       assessment(db.prepare(std::string("SELECT ") + kAssessColumns + " FROM " +
                             std::string(schema::kSegmentsTable) + " WHERE fid = ?1")),
       rtree_holder(
-          db.prepare("SELECT id FROM " + std::string(schema::kSegmentsRtree) + " LIMIT 1")) {
+          db.prepare("SELECT id FROM " + std::string(schema::kSegmentsRtree) + " LIMIT 1")),
+      segments_at(db.prepare("SELECT s.fid, s.from_node_id, s.to_node_id, s.geom FROM " +
+                             std::string(schema::kSegmentsRtree) + " r JOIN " +
+                             std::string(schema::kSegmentsTable) +
+                             " s ON s.fid = r.id WHERE r.maxx >= ?1 AND r.minx <= ?2 AND "
+                             "r.maxy >= ?3 AND r.miny <= ?4")) {
   rtree_holder.step();
 }
 

@@ -283,6 +283,68 @@ Result<NearestRoad> Map::nearest(const Position& position, double max_distance_m
   }
 }
 
+double Map::Impl::direction_at(std::int64_t segment_id, const detail::PolylineProjection& at) {
+  const std::vector<schema::PlanePoint>& own = best_geometry;
+  const double own_direction = detail::polyline_direction_rad(own, at);
+  const bool at_start = at.edge_index == 0 && at.edge_fraction <= 0.0;
+  const bool at_end = at.edge_index + 2 == own.size() && at.edge_fraction >= 1.0;
+  if (!at_start && !at_end) return own_direction;
+
+  // Every segment whose box holds the vertex; those that share its graph node continue the
+  // road there (a bridge over it shares the point, not the node).
+  struct Other {
+    std::int64_t from = 0, to = 0;
+    double leaving_from = 0.0, leaving_to = 0.0;  // direction away from each end, along it
+  };
+  std::vector<Other> others;
+  std::int64_t own_from = 0, own_to = 0;
+  const schema::PlanePoint vertex = at_start ? own.front() : own.back();
+  constexpr double kHalfBoxM = 0.01;
+  sqlite::Statement& stmt = queries.segments_at;
+  stmt.bind(1, vertex.x - kHalfBoxM);
+  stmt.bind(2, vertex.x + kHalfBoxM);
+  stmt.bind(3, vertex.y - kHalfBoxM);
+  stmt.bind(4, vertex.y + kHalfBoxM);
+  while (stmt.step()) {
+    const std::int64_t fid = stmt.column_int64(0);
+    if (fid == segment_id) {
+      own_from = stmt.column_int64(1);
+      own_to = stmt.column_int64(2);
+      continue;
+    }
+    if (!schema::decode_linestring(stmt.column_blob(3), scratch)) {
+      stmt.reset();
+      throw std::runtime_error("segment " + std::to_string(fid) + " has a malformed geometry");
+    }
+    const std::size_t n = scratch.size();
+    others.push_back({stmt.column_int64(1), stmt.column_int64(2),
+                      geo::grid_yaw_rad(scratch[1].x - scratch[0].x, scratch[1].y - scratch[0].y),
+                      geo::grid_yaw_rad(scratch[n - 2].x - scratch[n - 1].x,
+                                        scratch[n - 2].y - scratch[n - 1].y)});
+  }
+  stmt.reset();
+  if (own_from == own_to) return own_direction;  // a loop: both ends are the same node
+  const std::int64_t node = at_start ? own_from : own_to;
+  int ends_at_node = 0;
+  double leaving = 0.0;  // direction away from the node along the one other segment
+  for (const Other& o : others) {
+    if (o.from == node) {
+      ++ends_at_node;
+      leaving = o.leaving_from;
+    }
+    if (o.to == node) {
+      ++ends_at_node;
+      leaving = o.leaving_to;
+    }
+  }
+  if (ends_at_node != 1) return own_direction;  // a dead end or a junction
+  // The road arrives at the node by `before` and leaves it by `after`, in the own segment's
+  // direction of travel.
+  const double before = at_end ? own_direction : geo::normalize_angle_rad(leaving + geo::kPi);
+  const double after = at_end ? leaving : own_direction;
+  return geo::normalize_angle_rad(before + 0.5 * geo::angle_difference_rad(after, before));
+}
+
 Result<RoadHeading> Map::road_heading(const Position& position, double max_distance_m) noexcept {
   Result<NearestRoad> road = nearest(position, max_distance_m);
   if (!road.ok()) return fail<RoadHeading>(road.status.code, road.status.message);
@@ -291,7 +353,12 @@ Result<RoadHeading> Map::road_heading(const Position& position, double max_dista
   const detail::PolylineProjection at = detail::project_onto_polyline(geometry, query);
 
   RoadHeading heading;
-  heading.road_heading_rad = detail::polyline_direction_rad(geometry, at);
+  try {
+    heading.road_heading_rad = impl_->direction_at(road->segment_id, at);
+  } catch (const std::exception& e) {
+    impl_->queries.segments_at.reset();
+    return fail<RoadHeading>(StatusCode::corrupt_database, impl_->info.path + ": " + e.what());
+  }
   // Which side of the road is the query on? The sign of the cross product of the road
   // direction with the vector from the road to the query: > 0 means left of the way direction.
   const double dir_x = std::cos(heading.road_heading_rad),

@@ -25,6 +25,9 @@ struct Queries {
   /// handle on the node table when its last cursor closes, and reopening it compiles a
   /// statement (a tenth of assess's time); with this cursor open, every query reuses it.
   sqlite::Statement rtree_holder;
+  /// Segments (with their end nodes) whose R*Tree box meets a query box (road_heading at a
+  /// segment's end vertex).
+  sqlite::Statement segments_at;
 
   explicit Queries(sqlite::Database& db);
 };
@@ -61,6 +64,12 @@ struct Map::Impl {
   /// the segment's geometry in best_geometry. invalid_argument or not_found otherwise; throws
   /// on an SQLite error or a malformed geometry.
   Status locate(const Position& position, double max_distance_m, NearestRoad& road);
+
+  /// The road's direction (ENU yaw, radians) at `at` on segment `segment_id`, whose geometry is
+  /// in best_geometry: polyline_direction_rad, except at the segment's first or last vertex
+  /// where exactly one other segment continues the road (a graph node of degree 2), which
+  /// gives the bisector of the two segments' directions there. Throws like locate.
+  double direction_at(std::int64_t segment_id, const detail::PolylineProjection& at);
 };
 
 }  // namespace roadcross
