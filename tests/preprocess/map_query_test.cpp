@@ -140,6 +140,36 @@ TEST_F(MapQuery, OnTheCentrelineTheSideIsUnknown) {
   EXPECT_NEAR(on->crossing_heading_rad, road_yaw() - kPi / 2, 1e-9);
 }
 
+TEST_F(MapQuery, AnOpenMapBlocksWritesInPlaceAndKeepsReadingAReplacedFile) {
+  Map map = open();
+  {
+    roadcross::sqlite::Database db(db_path_, SQLITE_OPEN_READWRITE);
+    try {
+      db.exec("UPDATE roadcross_metadata SET value = 'changed' WHERE key = 'tool_version'");
+      ADD_FAILURE() << "a write in place succeeded while a Map had the file open";
+    } catch (const roadcross::sqlite::sqlite_error& e) {
+      EXPECT_EQ(e.code() & 0xff, SQLITE_BUSY) << e.what();
+    }
+  }
+  // roadcross-build writes a new file and renames it over the old one: here a map of way 20
+  // only. The open Map still reads the file it opened; a new one reads the new file.
+  rp::BuildOptions options;
+  options.osm_path = dir_.write(
+      "north.osm", rt::osm_document(rt::osm_node(3, 50.001, 14.4) + rt::osm_node(4, 50.002, 14.4) +
+                                    rt::osm_way(20, "3 4", "highway=service")));
+  options.output_path = db_path_;
+  options.tool_version = "test";
+  rp::run_build(options);
+  const auto before = map.nearest(beside_road(0.43, 5.0));
+  ASSERT_TRUE(before.ok()) << before.status.message;
+  EXPECT_EQ(before->osm_way_id, 10);
+  EXPECT_NEAR(before->distance_m, 5.0, 1e-6);
+  Map replaced = open();
+  const auto after = replaced.nearest(beside_road(0.43, 5.0));
+  ASSERT_TRUE(after.ok()) << after.status.message;
+  EXPECT_EQ(after->osm_way_id, 20);
+}
+
 TEST_F(MapQuery, BadPositions) {
   Map map = open();
   const double nan = std::numeric_limits<double>::quiet_NaN();
