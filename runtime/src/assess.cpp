@@ -1,6 +1,7 @@
 // Map::assess: the segment's cost terms read from the DB, judged against the thresholds.
 #include <algorithm>
 #include <cstdlib>
+#include <string_view>
 
 #include "map_impl.hpp"
 
@@ -8,9 +9,11 @@ namespace roadcross {
 namespace detail {
 
 namespace {
-// Columns read by assess, in this order (see schema/src/schema.cpp for meanings and units).
-constexpr const char* kCostColumns =
-    "class_cost, junction_distance_m, radius_m, curvature_level, curvature_cost, elevation_cost, "
+// Columns read by assess, in this order (see schema/src/schema.cpp for meanings and units):
+// the segment's identity (as nearest() reads it), then its cost terms.
+constexpr const char* kAssessColumns =
+    "osm_way_id, highway, name, length_m, class_cost, junction_distance_m, radius_m, "
+    "curvature_level, curvature_cost, elevation_cost, "
     "landform, maxspeed_kmh, lanes, width_m, context_score, crossing_distance_m, rank, score, "
     "reasons, tunnel, override_note, override_no_crossing, override_force_suitable";
 }  // namespace
@@ -22,8 +25,17 @@ Queries::Queries(sqlite::Database& db)
                             "r.maxy >= ?3 AND r.miny <= ?4")),
       attributes(db.prepare("SELECT osm_way_id, highway, name, length_m FROM " +
                             std::string(schema::kSegmentsTable) + " WHERE fid = ?1")),
-      cost_terms(db.prepare(std::string("SELECT ") + kCostColumns + " FROM " +
-                            std::string(schema::kSegmentsTable) + " WHERE fid = ?1")) {}
+      assessment(db.prepare(std::string("SELECT ") + kAssessColumns + " FROM " +
+                            std::string(schema::kSegmentsTable) + " WHERE fid = ?1")),
+      rtree_holder(
+          db.prepare("SELECT id FROM " + std::string(schema::kSegmentsRtree) + " LIMIT 1")),
+      segments_at(db.prepare("SELECT s.fid, s.from_node_id, s.to_node_id, s.geom FROM " +
+                             std::string(schema::kSegmentsRtree) + " r JOIN " +
+                             std::string(schema::kSegmentsTable) +
+                             " s ON s.fid = r.id WHERE r.maxx >= ?1 AND r.minx <= ?2 AND "
+                             "r.maxy >= ?3 AND r.miny <= ?4")) {
+  rtree_holder.step();
+}
 
 Thresholds thresholds_from(const MapInfo& info) {
   Thresholds t;
@@ -58,70 +70,81 @@ const char* describe_reason(const std::string& code) noexcept {
 
 namespace {
 
-template <typename T>
-std::optional<T> optional_column(const sqlite::Statement& row, int i) {
+std::optional<int> optional_int(const sqlite::Statement& row, int i) {
   if (row.column_is_null(i)) return std::nullopt;
-  if constexpr (std::is_same_v<T, int>) {
-    return static_cast<int>(row.column_int64(i));
-  } else if constexpr (std::is_same_v<T, double>) {
-    return row.column_double(i);
-  } else {
-    return row.column_text(i);
-  }
+  return static_cast<int>(row.column_int64(i));
 }
 
-void split_codes(const std::string& text, std::vector<std::string>& out) {
+std::optional<double> optional_double(const sqlite::Statement& row, int i) {
+  if (row.column_is_null(i)) return std::nullopt;
+  return row.column_double(i);
+}
+
+/// Appends the comma-separated codes of `text` to `out`, with room for `extra` more.
+void split_codes(std::string_view text, std::vector<std::string>& out, std::size_t extra) {
+  out.reserve(static_cast<std::size_t>(std::count(text.begin(), text.end(), ',')) + 1 + extra);
   std::size_t start = 0;
   while (start < text.size()) {
     std::size_t end = text.find(',', start);
-    if (end == std::string::npos) end = text.size();
-    if (end > start) out.push_back(text.substr(start, end - start));
+    if (end == std::string_view::npos) end = text.size();
+    if (end > start) out.emplace_back(text.substr(start, end - start));
     start = end + 1;
   }
 }
 
-bool has(const std::vector<std::string>& codes, const char* code) {
+bool has(const std::vector<std::string>& codes, std::string_view code) {
   return std::find(codes.begin(), codes.end(), code) != codes.end();
 }
 
 }  // namespace
 
 Result<Assessment> Map::assess(const Position& position, const AssessOptions& options) noexcept {
-  Result<NearestRoad> road = nearest(position, options.max_distance_m);
-  if (!road.ok()) return Result<Assessment>{road.status, std::nullopt};
+  if (!(options.max_distance_m > 0.0)) {
+    return Result<Assessment>{Status{StatusCode::invalid_argument, "max_distance_m must be > 0"},
+                              std::nullopt};
+  }
+  Impl& impl = *impl_;
   try {
-    Assessment a;
-    a.valid_distance_m = options.valid_distance_m.value_or(impl_->thresholds.valid_distance_m);
-    a.threshold = options.threshold.value_or(impl_->thresholds.threshold);
-    sqlite::Statement& row = impl_->queries.cost_terms;
-    row.bind(1, road->segment_id);
+    Result<Assessment> result{Status{}, std::optional<Assessment>(std::in_place)};
+    Assessment& a = *result.value;
+    Status status = impl.locate(position, options.max_distance_m, a.road);
+    if (!status.ok()) return Result<Assessment>{std::move(status), std::nullopt};
+    a.valid_distance_m = options.valid_distance_m.value_or(impl.thresholds.valid_distance_m);
+    a.threshold = options.threshold.value_or(impl.thresholds.threshold);
+    // One primary-key read gives the identity and the cost terms.
+    sqlite::Statement& row = impl.queries.assessment;
+    row.bind(1, a.road.segment_id);
     if (!row.step()) {
       row.reset();
       return Result<Assessment>{Status{StatusCode::corrupt_database, "segment without a row"},
                                 std::nullopt};
     }
-    a.class_cost = optional_column<int>(row, 0);
-    a.junction_distance_m = optional_column<double>(row, 1);
-    a.radius_m = optional_column<double>(row, 2);
-    a.curvature_level = optional_column<int>(row, 3);
-    a.curvature_cost = optional_column<int>(row, 4);
-    a.elevation_cost = optional_column<int>(row, 5);
-    a.landform = optional_column<std::string>(row, 6);
-    a.maxspeed_kmh = optional_column<double>(row, 7);
-    a.lanes = optional_column<int>(row, 8);
-    a.width_m = optional_column<double>(row, 9);
-    a.context_score = optional_column<int>(row, 10);
-    a.crossing_distance_m = optional_column<double>(row, 11);
-    a.rank = optional_column<int>(row, 12);
-    a.score = optional_column<int>(row, 13);
-    split_codes(row.column_text(14), a.reasons);
-    a.tunnel = row.column_int64(15) != 0;
-    a.override_note = row.column_text(16);
-    const bool no_crossing = row.column_int64(17) != 0;
-    const bool force_suitable = row.column_int64(18) != 0;
+    a.road.osm_way_id = row.column_int64(0);
+    a.road.highway = row.column_text_view(1);
+    a.road.name = row.column_text_view(2);
+    a.road.segment_length_m = row.column_double(3);
+    a.class_cost = optional_int(row, 4);
+    a.junction_distance_m = optional_double(row, 5);
+    a.radius_m = optional_double(row, 6);
+    a.curvature_level = optional_int(row, 7);
+    a.curvature_cost = optional_int(row, 8);
+    a.elevation_cost = optional_int(row, 9);
+    if (!row.column_is_null(10)) a.landform.emplace(row.column_text_view(10));
+    a.maxspeed_kmh = optional_double(row, 11);
+    a.lanes = optional_int(row, 12);
+    a.width_m = optional_double(row, 13);
+    a.context_score = optional_int(row, 14);
+    a.crossing_distance_m = optional_double(row, 15);
+    a.rank = optional_int(row, 16);
+    a.score = optional_int(row, 17);
+    // Room for the codes added below (TOO_FAR_FROM_ROAD, NO_ELEVATION, LOW_SCORE, OVERRIDE).
+    split_codes(row.column_text_view(18), a.reasons, 4);
+    a.tunnel = row.column_int64(19) != 0;
+    a.override_note = row.column_text_view(20);
+    const bool no_crossing = row.column_int64(21) != 0;
+    const bool force_suitable = row.column_int64(22) != 0;
     row.reset();
 
-    a.road = std::move(*road);
     a.valid = a.road.distance_m <= a.valid_distance_m;
     if (!a.valid) a.reasons.insert(a.reasons.begin(), "TOO_FAR_FROM_ROAD");
     if (!a.elevation_cost && !has(a.reasons, "NO_ELEVATION"))
@@ -134,11 +157,12 @@ Result<Assessment> Map::assess(const Position& position, const AssessOptions& op
       a.reasons.emplace_back("OVERRIDE");
     // An operator's force_suitable overrides the score, never the class, a tunnel or validity.
     a.suitable = a.valid && !forbidden && (good_enough || force_suitable);
-    return Result<Assessment>{Status{}, std::move(a)};
+    return result;
   } catch (const std::exception& e) {
-    impl_->queries.cost_terms.reset();
+    impl.queries.candidates.reset();
+    impl.queries.assessment.reset();
     return Result<Assessment>{
-        Status{StatusCode::corrupt_database, impl_->info.path + ": " + e.what()}, std::nullopt};
+        Status{StatusCode::corrupt_database, impl.info.path + ": " + e.what()}, std::nullopt};
   }
 }
 

@@ -44,6 +44,10 @@ constexpr const char* kRebuildHint =
     "Rebuild it with this version's roadcross-build (roadcross-build --osm MAP.osm.pbf -o "
     "OUT.gpkg).";
 
+/// Address space for reading the DB through a memory map (SQLite caps it at its compile-time
+/// SQLITE_MAX_MMAP_SIZE, 2 GB by default); pages beyond it are read with pread().
+constexpr std::int64_t kMmapBytes = std::int64_t{1} << 30;
+
 template <typename T>
 Result<T> fail(StatusCode code, std::string message) {
   return Result<T>{Status{code, std::move(message)}, std::nullopt};
@@ -158,6 +162,12 @@ Result<Map> Map::open(const std::string& path) noexcept {
           path + ": no such file. Build one with roadcross-build --osm MAP -o " + path);
     }
     sqlite::Database db(path, SQLITE_OPEN_READONLY | SQLITE_OPEN_NOMUTEX);
+    // Hot-path settings (docs/runtime.md, "The DB file while a Map is open"): keep the shared
+    // lock from the first read on, so a statement neither takes and drops a file lock nor checks
+    // for a hot journal and a changed file (three system calls per statement otherwise), and
+    // read pages through a memory map instead of one pread() each.
+    db.exec("PRAGMA locking_mode = EXCLUSIVE");
+    db.exec("PRAGMA mmap_size = " + std::to_string(kMmapBytes));
     MapInfo info;
     info.path = path;
     Status status = read_metadata(db, info);
@@ -178,91 +188,161 @@ Result<Map> Map::open(const std::string& path) noexcept {
   }
 }
 
-Result<PlanePoint> Map::to_utm(const Position& position) const noexcept {
+Status Map::Impl::to_plane(const Position& position, schema::PlanePoint& out) const noexcept {
   if (!std::isfinite(position.first) || !std::isfinite(position.second)) {
-    return fail<PlanePoint>(StatusCode::invalid_argument,
-                            "position has a NaN or infinite coordinate");
+    return {StatusCode::invalid_argument, "position has a NaN or infinite coordinate"};
   }
   if (position.kind == Position::Kind::utm) {
-    return Result<PlanePoint>{Status{}, PlanePoint{position.first, position.second}};
+    out = {position.first, position.second};
+    return {};
   }
   try {
-    const geo::UtmPoint p = geo::wgs84_to_utm(position.first, position.second, impl_->info.zone);
-    return Result<PlanePoint>{Status{}, PlanePoint{p.easting_m, p.northing_m}};
+    const geo::UtmPoint p = geo::wgs84_to_utm(position.first, position.second, info.zone);
+    out = {p.easting_m, p.northing_m};
+    return {};
   } catch (const std::exception& e) {
-    return fail<PlanePoint>(StatusCode::invalid_argument, e.what());
+    return {StatusCode::invalid_argument, e.what()};
   }
 }
 
-namespace {
+Result<PlanePoint> Map::to_utm(const Position& position) const noexcept {
+  schema::PlanePoint p;
+  Status status = impl_->to_plane(position, p);
+  if (!status.ok()) return Result<PlanePoint>{std::move(status), std::nullopt};
+  return Result<PlanePoint>{Status{}, PlanePoint{p.x, p.y}};
+}
 
-struct BestMatch {
-  std::int64_t segment_id = -1;
-  detail::PolylineProjection projection;
-};
-
-}  // namespace
+Status Map::Impl::locate(const Position& position, double max_distance_m, NearestRoad& road) {
+  schema::PlanePoint p;
+  Status status = to_plane(position, p);
+  if (!status.ok()) return status;
+  std::int64_t best_id = -1;
+  detail::PolylineProjection best;
+  best.distance_m = std::numeric_limits<double>::infinity();
+  // Grow the search box until the best candidate is inside the searched radius: then no
+  // segment outside the box can be nearer, since its bounding box would intersect it.
+  for (double radius_m = std::min(16.0, max_distance_m);;
+       radius_m = std::min(radius_m * 2.0, max_distance_m)) {
+    sqlite::Statement& stmt = queries.candidates;
+    stmt.bind(1, p.x - radius_m);
+    stmt.bind(2, p.x + radius_m);
+    stmt.bind(3, p.y - radius_m);
+    stmt.bind(4, p.y + radius_m);
+    while (stmt.step()) {
+      if (!schema::decode_linestring(stmt.column_blob(1), scratch)) {
+        const std::int64_t fid = stmt.column_int64(0);
+        stmt.reset();
+        throw std::runtime_error("segment " + std::to_string(fid) + " has a malformed geometry");
+      }
+      const auto projection = detail::project_onto_polyline(scratch, p);
+      if (projection.distance_m < best.distance_m) {
+        best_id = stmt.column_int64(0);
+        best = projection;
+        best_geometry.swap(scratch);
+      }
+    }
+    stmt.reset();
+    if (best.distance_m <= radius_m || radius_m >= max_distance_m) break;
+  }
+  if (best_id < 0 || best.distance_m > max_distance_m) {
+    char text[160];
+    std::snprintf(text, sizeof text, "no road within %g m of E %.1f N %.1f (UTM zone %d%s)",
+                  max_distance_m, p.x, p.y, info.zone.zone, info.zone.northern ? "N" : "S");
+    return {StatusCode::not_found, text};
+  }
+  road.segment_id = best_id;
+  road.query = {p.x, p.y};
+  road.closest = {best.closest.x, best.closest.y};
+  road.distance_m = best.distance_m;
+  return {};
+}
 
 Result<NearestRoad> Map::nearest(const Position& position, double max_distance_m) noexcept {
   if (!(max_distance_m > 0.0)) {
     return fail<NearestRoad>(StatusCode::invalid_argument, "max_distance_m must be > 0");
   }
-  const Result<PlanePoint> query = to_utm(position);
-  if (!query.ok()) return fail<NearestRoad>(query.status.code, query.status.message);
-  const schema::PlanePoint p{query->easting_m, query->northing_m};
   try {
     Impl& impl = *impl_;
-    BestMatch best;
-    best.projection.distance_m = std::numeric_limits<double>::infinity();
-    // Grow the search box until the best candidate is inside the searched radius: then no
-    // segment outside the box can be nearer, since its bounding box would intersect it.
-    for (double radius_m = std::min(16.0, max_distance_m);;
-         radius_m = std::min(radius_m * 2.0, max_distance_m)) {
-      sqlite::Statement& stmt = impl.queries.candidates;
-      stmt.bind(1, p.x - radius_m);
-      stmt.bind(2, p.x + radius_m);
-      stmt.bind(3, p.y - radius_m);
-      stmt.bind(4, p.y + radius_m);
-      while (stmt.step()) {
-        if (!schema::decode_linestring(stmt.column_blob(1), impl.scratch)) {
-          const std::int64_t fid = stmt.column_int64(0);
-          stmt.reset();
-          throw std::runtime_error("segment " + std::to_string(fid) + " has a malformed geometry");
-        }
-        const auto projection = detail::project_onto_polyline(impl.scratch, p);
-        if (projection.distance_m < best.projection.distance_m) {
-          best = {stmt.column_int64(0), projection};
-          impl.best_geometry.swap(impl.scratch);
-        }
-      }
-      stmt.reset();
-      if (best.projection.distance_m <= radius_m || radius_m >= max_distance_m) break;
-    }
-    if (best.segment_id < 0 || best.projection.distance_m > max_distance_m) {
-      char text[160];
-      std::snprintf(text, sizeof text, "no road within %g m of E %.1f N %.1f (UTM zone %d%s)",
-                    max_distance_m, p.x, p.y, impl.info.zone.zone,
-                    impl.info.zone.northern ? "N" : "S");
-      return fail<NearestRoad>(StatusCode::not_found, text);
-    }
     NearestRoad road;
-    road.segment_id = best.segment_id;
-    road.query = {p.x, p.y};
-    road.closest = {best.projection.closest.x, best.projection.closest.y};
-    road.distance_m = best.projection.distance_m;
+    Status status = impl.locate(position, max_distance_m, road);
+    if (!status.ok()) return Result<NearestRoad>{std::move(status), std::nullopt};
     sqlite::Statement& attributes = impl.queries.attributes;
-    attributes.bind(1, best.segment_id);
+    attributes.bind(1, road.segment_id);
     if (attributes.step()) {
       road.osm_way_id = attributes.column_int64(0);
-      road.highway = attributes.column_text(1);
-      road.name = attributes.column_text(2);
+      road.highway = attributes.column_text_view(1);
+      road.name = attributes.column_text_view(2);
       road.segment_length_m = attributes.column_double(3);
     }
     attributes.reset();
     return Result<NearestRoad>{Status{}, std::move(road)};
   } catch (const std::exception& e) {
+    impl_->queries.candidates.reset();
+    impl_->queries.attributes.reset();
     return fail<NearestRoad>(StatusCode::corrupt_database, impl_->info.path + ": " + e.what());
   }
+}
+
+double Map::Impl::direction_at(std::int64_t segment_id, const detail::PolylineProjection& at) {
+  const std::vector<schema::PlanePoint>& own = best_geometry;
+  const double own_direction = detail::polyline_direction_rad(own, at);
+  const bool at_start = at.edge_index == 0 && at.edge_fraction <= 0.0;
+  const bool at_end = at.edge_index + 2 == own.size() && at.edge_fraction >= 1.0;
+  if (!at_start && !at_end) return own_direction;
+
+  // Every segment whose box holds the vertex; those that share its graph node continue the
+  // road there (a bridge over it shares the point, not the node).
+  struct Other {
+    std::int64_t from = 0, to = 0;
+    double leaving_from = 0.0, leaving_to = 0.0;  // direction away from each end, along it
+  };
+  std::vector<Other> others;
+  std::int64_t own_from = 0, own_to = 0;
+  const schema::PlanePoint vertex = at_start ? own.front() : own.back();
+  constexpr double kHalfBoxM = 0.01;
+  sqlite::Statement& stmt = queries.segments_at;
+  stmt.bind(1, vertex.x - kHalfBoxM);
+  stmt.bind(2, vertex.x + kHalfBoxM);
+  stmt.bind(3, vertex.y - kHalfBoxM);
+  stmt.bind(4, vertex.y + kHalfBoxM);
+  while (stmt.step()) {
+    const std::int64_t fid = stmt.column_int64(0);
+    if (fid == segment_id) {
+      own_from = stmt.column_int64(1);
+      own_to = stmt.column_int64(2);
+      continue;
+    }
+    if (!schema::decode_linestring(stmt.column_blob(3), scratch)) {
+      stmt.reset();
+      throw std::runtime_error("segment " + std::to_string(fid) + " has a malformed geometry");
+    }
+    const std::size_t n = scratch.size();
+    others.push_back({stmt.column_int64(1), stmt.column_int64(2),
+                      geo::grid_yaw_rad(scratch[1].x - scratch[0].x, scratch[1].y - scratch[0].y),
+                      geo::grid_yaw_rad(scratch[n - 2].x - scratch[n - 1].x,
+                                        scratch[n - 2].y - scratch[n - 1].y)});
+  }
+  stmt.reset();
+  if (own_from == own_to) return own_direction;  // a loop: both ends are the same node
+  const std::int64_t node = at_start ? own_from : own_to;
+  int ends_at_node = 0;
+  double leaving = 0.0;  // direction away from the node along the one other segment
+  for (const Other& o : others) {
+    if (o.from == node) {
+      ++ends_at_node;
+      leaving = o.leaving_from;
+    }
+    if (o.to == node) {
+      ++ends_at_node;
+      leaving = o.leaving_to;
+    }
+  }
+  if (ends_at_node != 1) return own_direction;  // a dead end or a junction
+  // The road arrives at the node by `before` and leaves it by `after`, in the own segment's
+  // direction of travel.
+  const double before = at_end ? own_direction : geo::normalize_angle_rad(leaving + geo::kPi);
+  const double after = at_end ? leaving : own_direction;
+  return geo::normalize_angle_rad(before + 0.5 * geo::angle_difference_rad(after, before));
 }
 
 Result<RoadHeading> Map::road_heading(const Position& position, double max_distance_m) noexcept {
@@ -273,7 +353,12 @@ Result<RoadHeading> Map::road_heading(const Position& position, double max_dista
   const detail::PolylineProjection at = detail::project_onto_polyline(geometry, query);
 
   RoadHeading heading;
-  heading.road_heading_rad = detail::polyline_direction_rad(geometry, at);
+  try {
+    heading.road_heading_rad = impl_->direction_at(road->segment_id, at);
+  } catch (const std::exception& e) {
+    impl_->queries.segments_at.reset();
+    return fail<RoadHeading>(StatusCode::corrupt_database, impl_->info.path + ": " + e.what());
+  }
   // Which side of the road is the query on? The sign of the cross product of the road
   // direction with the vector from the road to the query: > 0 means left of the way direction.
   const double dir_x = std::cos(heading.road_heading_rad),

@@ -113,6 +113,14 @@ TEST_F(MapQuery, BeyondTheEndTheClosestPointIsTheEnd) {
   EXPECT_NEAR(road->distance_m, 5.0, 1e-6);
 }
 
+TEST_F(MapQuery, AtADeadEndTheHeadingIsTheSegmentsOwn) {
+  // Beyond node 1, where way 10 starts and nothing else does.
+  Map map = open();
+  const auto heading = map.road_heading(Position::utm(kAx - 4.0, kAy + 3.0));
+  ASSERT_TRUE(heading.ok());
+  EXPECT_NEAR(heading->road_heading_rad, road_yaw(), 1e-9);
+}
+
 TEST_F(MapQuery, Wgs84InputEqualsProjectedInput) {
   Map map = open();
   const auto by_latlon = map.nearest(Position::wgs84(50.00004, 14.4003));
@@ -130,6 +138,36 @@ TEST_F(MapQuery, OnTheCentrelineTheSideIsUnknown) {
   ASSERT_TRUE(on.ok());
   EXPECT_TRUE(on->on_centreline);
   EXPECT_NEAR(on->crossing_heading_rad, road_yaw() - kPi / 2, 1e-9);
+}
+
+TEST_F(MapQuery, AnOpenMapBlocksWritesInPlaceAndKeepsReadingAReplacedFile) {
+  Map map = open();
+  {
+    roadcross::sqlite::Database db(db_path_, SQLITE_OPEN_READWRITE);
+    try {
+      db.exec("UPDATE roadcross_metadata SET value = 'changed' WHERE key = 'tool_version'");
+      ADD_FAILURE() << "a write in place succeeded while a Map had the file open";
+    } catch (const roadcross::sqlite::sqlite_error& e) {
+      EXPECT_EQ(e.code() & 0xff, SQLITE_BUSY) << e.what();
+    }
+  }
+  // roadcross-build writes a new file and renames it over the old one: here a map of way 20
+  // only. The open Map still reads the file it opened; a new one reads the new file.
+  rp::BuildOptions options;
+  options.osm_path = dir_.write(
+      "north.osm", rt::osm_document(rt::osm_node(3, 50.001, 14.4) + rt::osm_node(4, 50.002, 14.4) +
+                                    rt::osm_way(20, "3 4", "highway=service")));
+  options.output_path = db_path_;
+  options.tool_version = "test";
+  rp::run_build(options);
+  const auto before = map.nearest(beside_road(0.43, 5.0));
+  ASSERT_TRUE(before.ok()) << before.status.message;
+  EXPECT_EQ(before->osm_way_id, 10);
+  EXPECT_NEAR(before->distance_m, 5.0, 1e-6);
+  Map replaced = open();
+  const auto after = replaced.nearest(beside_road(0.43, 5.0));
+  ASSERT_TRUE(after.ok()) << after.status.message;
+  EXPECT_EQ(after->osm_way_id, 20);
 }
 
 TEST_F(MapQuery, BadPositions) {
@@ -182,6 +220,93 @@ TEST_F(MapQuery, OpenErrorsSayWhatToDo) {
     db.exec("UPDATE roadcross_metadata SET value = '1' WHERE key = 'schema_version'");
   }
   EXPECT_EQ(Map::open(db_path_).status.code, StatusCode::corrupt_database);
+}
+
+// Two segments meeting at a corner. Way 10 runs east from node 1 = A to node 2 at (50.0, 14.4),
+// the corner C; way 30 runs north from C to node 3 at (50.001, 14.4), N. Node 4 at
+// (50.001, 14.399) is W, north-west of C. In UTM 33N (gdaltransform, as above):
+constexpr double kCx = 456999.890393961, kCy = 5538803.17916943;
+constexpr double kNx = 457000.782347338, kNy = 5538914.36269954;
+constexpr double kWx = 456929.117437783, kWy = 5538914.93810399;
+// Directions there: A->C, yaw atan2(-0.5754, 71.6664) = -0.008029; C->N, yaw
+// atan2(111.1835, 0.8920) = pi/2 - 0.008022 = 1.562774; their bisector 0.777373 = pi/4 - 0.008025.
+const double kEastYaw = std::atan2(kCy - kAy, kCx - kAx);
+const double kNorthYaw = std::atan2(kNy - kCy, kNx - kCx);
+const double kBisector = 0.5 * (kEastYaw + kNorthYaw);
+
+Map build_map(const rt::TempDir& dir, const std::string& ways) {
+  const std::string osm = dir.write(
+      "bend.osm",
+      rt::osm_document(rt::osm_node(1, 50.0, 14.399) + rt::osm_node(2, 50.0, 14.4) +
+                       rt::osm_node(3, 50.001, 14.4) + rt::osm_node(4, 50.001, 14.399) + ways));
+  rp::BuildOptions options;
+  options.osm_path = osm;
+  options.output_path = dir.file("bend.gpkg");
+  options.tool_version = "test";
+  rp::run_build(options);
+  auto map = Map::open(options.output_path);
+  EXPECT_TRUE(map.ok()) << map.status.message;
+  return std::move(*map.value);
+}
+
+// Outside the corner, 2 m east and 2 m south of C: the closest point of both segments is C.
+const Position kOutsideTheCorner = Position::utm(kCx + 2.0, kCy - 2.0);
+
+TEST(RoadHeadingAtAVertex, TwoSegmentsMeetingGiveTheBisector) {
+  rt::TempDir dir;
+  Map map = build_map(dir, rt::osm_way(10, "1 2", "highway=residential") +
+                               rt::osm_way(30, "2 3", "highway=residential"));
+  const auto heading = map.road_heading(kOutsideTheCorner);
+  ASSERT_TRUE(heading.ok()) << heading.status.message;
+  EXPECT_NEAR(heading->road.closest.easting_m, kCx, 1e-6);
+  EXPECT_NEAR(heading->road.closest.northing_m, kCy, 1e-6);
+  EXPECT_NEAR(heading->road.distance_m, 2.0 * std::sqrt(2.0), 1e-6);
+  // Whichever of the two segments is reported, the heading is the bisector: north-east.
+  EXPECT_NEAR(heading->road_heading_rad, kBisector, 1e-9);
+  EXPECT_NEAR(heading->road_heading_rad, 0.777373, 1e-6);
+  // South-east of a road heading north-east is its right: cross towards the north-west.
+  EXPECT_NEAR(heading->crossing_heading_rad, kBisector + kPi / 2, 1e-9);
+}
+
+TEST(RoadHeadingAtAVertex, ASegmentDrawnTheOtherWayIsTurnedAround) {
+  // Way 30 drawn from N to C: the road is A->C->N or N->C->A, as the reported segment is drawn.
+  rt::TempDir dir;
+  Map map = build_map(dir, rt::osm_way(10, "1 2", "highway=residential") +
+                               rt::osm_way(30, "3 2", "highway=residential"));
+  const auto heading = map.road_heading(kOutsideTheCorner);
+  ASSERT_TRUE(heading.ok()) << heading.status.message;
+  if (heading->road.osm_way_id == 10) {
+    EXPECT_NEAR(heading->road_heading_rad, kBisector, 1e-9);  // north-east
+  } else {
+    ASSERT_EQ(heading->road.osm_way_id, 30);
+    EXPECT_NEAR(heading->road_heading_rad, kBisector - kPi, 1e-9);  // south-west, -2.364220
+  }
+}
+
+TEST(RoadHeadingAtAVertex, AtAJunctionTheSegmentKeepsItsOwnDirection) {
+  // Way 40 from C to W makes C a junction of three segments: no one continuation, so the
+  // reported segment's own direction, whichever of the three it is (all end at C).
+  rt::TempDir dir;
+  Map map = build_map(dir, rt::osm_way(10, "1 2", "highway=residential") +
+                               rt::osm_way(30, "2 3", "highway=residential") +
+                               rt::osm_way(40, "2 4", "highway=residential"));
+  const auto heading = map.road_heading(kOutsideTheCorner);
+  ASSERT_TRUE(heading.ok()) << heading.status.message;
+  EXPECT_NEAR(heading->road.distance_m, 2.0 * std::sqrt(2.0), 1e-6);
+  switch (heading->road.osm_way_id) {
+    case 10:
+      EXPECT_NEAR(heading->road_heading_rad, kEastYaw, 1e-9);
+      break;
+    case 30:
+      EXPECT_NEAR(heading->road_heading_rad, kNorthYaw, 1e-9);
+      break;
+    case 40:  // C->W: atan2(111.7589, -70.7730) = 2.135317
+      EXPECT_NEAR(heading->road_heading_rad, std::atan2(kWy - kCy, kWx - kCx), 1e-9);
+      EXPECT_NEAR(heading->road_heading_rad, 2.135317, 1e-6);
+      break;
+    default:
+      ADD_FAILURE() << "unexpected way " << heading->road.osm_way_id;
+  }
 }
 
 }  // namespace

@@ -84,6 +84,12 @@ class Statement {
   double column_double(int i) const { return sqlite3_column_double(stmt_, i); }
   bool column_is_null(int i) const { return sqlite3_column_type(stmt_, i) == SQLITE_NULL; }
   std::string column_text(int i) const;
+  /// The text of column `i` without a copy: valid until the next step() or reset().
+  std::string_view column_text_view(int i) const {
+    const auto* text = reinterpret_cast<const char*>(sqlite3_column_text(stmt_, i));
+    return text ? std::string_view(text, static_cast<std::size_t>(sqlite3_column_bytes(stmt_, i)))
+                : std::string_view();
+  }
   std::span<const std::uint8_t> column_blob(int i) const;
 
  private:
