@@ -86,7 +86,7 @@ BuildSummary run_build(const BuildOptions& options) {
     terrain = compute_terrain(graph, options.elevation, options.parameters.terrain, progress,
                               &terrain_grid);
   } else {
-    for (Segment& s : graph.segments) s.reasons.emplace_back("NO_ELEVATION");
+    for (Segment& s : graph.segments) s.reasons.add("NO_ELEVATION");
   }
   progress.start_stage("context");
   const ContextReport context =

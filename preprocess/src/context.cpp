@@ -235,7 +235,7 @@ ContextReport compute_context(RoadGraph& graph, const RoadNetwork& network,
     s.maxspeed_kmh = w.maxspeed_kmh;
     s.lanes = w.lanes;
     s.width_m = w.width_m;
-    if (!w.defaulted.empty()) s.context_defaulted = join(w.defaulted);
+    if (!w.defaulted.empty()) s.context_defaulted = graph.text.intern(join(w.defaulted));
     // The epsilon keeps a crossing exactly at the limit (a node between two 10 m segments is
     // 5 m from both midpoints) from missing its bonus to rounding.
     const bool near =
@@ -250,7 +250,7 @@ ContextReport compute_context(RoadGraph& graph, const RoadNetwork& network,
   }
   for (Segment& s : graph.segments) {
     if (*s.context_score < p.busy_road_below) {
-      s.reasons.emplace_back("BUSY_ROAD");
+      s.reasons.add("BUSY_ROAD");
       ++report.busy_segments;
     }
   }

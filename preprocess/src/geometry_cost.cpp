@@ -155,7 +155,7 @@ void assign_junction_distances(RoadGraph& graph, const GeometryParameters& p) {
       const double d = std::min(mid + from_end, piece.length_m - mid + to_end);
       if (std::isfinite(d)) {
         s.junction_distance_m = d;
-        if (d < p.near_junction_m) s.reasons.emplace_back("NEAR_JUNCTION");
+        if (d < p.near_junction_m) s.reasons.add("NEAR_JUNCTION");
       }
     }
   }
@@ -193,7 +193,7 @@ void assign_radii(RoadGraph& graph, const Stroke& stroke, const GeometryParamete
     s.radius_m = radius;
     s.curvature_level = curvature_level(
         radius, is_junction(graph, s.from_node_id) || is_junction(graph, s.to_node_id), p);
-    if (radius < p.sharp_bend_radius_m) s.reasons.emplace_back("SHARP_BEND");
+    if (radius < p.sharp_bend_radius_m) s.reasons.add("SHARP_BEND");
   }
 }
 
@@ -220,8 +220,8 @@ void compute_geometry_costs(RoadGraph& graph, const GeometryParameters& p) {
   for (Segment& s : graph.segments) {
     s.class_cost = class_cost(s.highway, p);
     const std::string_view base = std::string_view(s.highway).substr(0, s.highway.find("_link"));
-    if (base == "motorway" || base == "trunk") s.reasons.emplace_back("NOT_CROSSABLE_CLASS");
-    if (s.tunnel) s.reasons.emplace_back("TUNNEL");
+    if (base == "motorway" || base == "trunk") s.reasons.add("NOT_CROSSABLE_CLASS");
+    if (s.tunnel) s.reasons.add("TUNNEL");
   }
   assign_junction_distances(graph, p);
   for (const Stroke& stroke : build_strokes(graph)) {

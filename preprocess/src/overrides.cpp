@@ -180,14 +180,14 @@ bool edges_cross(PlanePoint p1, PlanePoint p2, PlanePoint q1, PlanePoint q2) {
          ((d3 >= 0) != (d4 >= 0) || d3 == 0 || d4 == 0) && !(d1 == 0 && d2 == 0 && d3 == 0);
 }
 
-void apply_one(Segment& s, const Override& o) {
+void apply_one(Segment& s, const Override& o, TextPool& text) {
   if (s.context_score) s.context_score = *s.context_score + o.context_delta;
   if (o.no_crossing) {
     s.override_no_crossing = true;
-    s.reasons.emplace_back("OVERRIDE");
+    s.reasons.add("OVERRIDE");
   }
   if (o.force_suitable) s.override_force_suitable = true;
-  s.override_note = s.override_note ? *s.override_note + "; " + o.note : o.note;
+  s.override_note = text.intern(s.override_note ? *s.override_note + "; " + o.note : o.note);
 }
 
 }  // namespace
@@ -218,7 +218,7 @@ std::vector<Override> read_overrides(const std::string& path) {
   return parse_overrides(text.str(), path);
 }
 
-bool polyline_touches_polygon(const std::vector<PlanePoint>& line,
+bool polyline_touches_polygon(std::span<const PlanePoint> line,
                               const std::vector<std::vector<PlanePoint>>& rings) {
   for (const PlanePoint& p : line) {
     if (inside(p, rings)) return true;
@@ -250,15 +250,15 @@ std::vector<std::uint64_t> apply_overrides(RoadGraph& graph,
                               o.osm_way_ids.end();
       if (!way_ok) continue;
       bool area_ok = polygons.empty();
-      const schema::Envelope e = schema::envelope_of(s.points);
+      const schema::Envelope e = schema::envelope_of(s.line());
       for (std::size_t k = 0; k < polygons.size() && !area_ok; ++k) {
         const schema::Envelope& b = boxes[k];
         if (e.max_x < b.min_x || e.min_x > b.max_x || e.max_y < b.min_y || e.min_y > b.max_y)
           continue;
-        area_ok = polyline_touches_polygon(s.points, polygons[k]);
+        area_ok = polyline_touches_polygon(s.line(), polygons[k]);
       }
       if (!area_ok) continue;
-      apply_one(s, o);
+      apply_one(s, o, graph.text);
       ++touched[i];
     }
   }

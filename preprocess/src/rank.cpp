@@ -30,38 +30,12 @@ int rank_of(int curvature_cost, int class_cost, std::optional<int> elevation_cos
   return static_cast<int>(std::clamp(rank, 0.0, 14.0));
 }
 
-namespace {
-
-// Reason codes in the order they are reported: what forbids crossing first, then why the
-// place is poor. Codes not listed keep their relative order after these.
-constexpr std::array<std::string_view, 12> kReasonOrder = {"NOT_CROSSABLE_CLASS",
-                                                           "TUNNEL",
-                                                           "OVERRIDE",
-                                                           "NEAR_JUNCTION",
-                                                           "SHARP_BEND",
-                                                           "CREST_OR_DIP",
-                                                           "LIMITED_VISIBILITY",
-                                                           "BUSY_ROAD",
-                                                           "NO_ELEVATION",
-                                                           "BRIDGE",
-                                                           "COVERED",
-                                                           "TOO_FAR_FROM_ROAD"};
-
-std::size_t reason_rank(const std::string& code) {
-  const auto it = std::find(kReasonOrder.begin(), kReasonOrder.end(), code);
-  return static_cast<std::size_t>(it - kReasonOrder.begin());
-}
-
-}  // namespace
-
 void compute_ranks(RoadGraph& graph, const RankParameters& p) {
   for (Segment& s : graph.segments) {
-    s.rank = rank_of(s.curvature_cost.value_or(0), s.class_cost.value_or(0), s.elevation_cost, p);
+    // (Reasons need no sorting: ReasonSet keeps them in their canonical order.)
+    s.rank = rank_of(s.curvature_cost.value_or(0), s.class_cost.value_or(0),
+                     s.elevation_cost.optional(), p);
     s.score = 15 - *s.rank;
-    std::stable_sort(
-        s.reasons.begin(), s.reasons.end(),
-        [](const std::string& a, const std::string& b) { return reason_rank(a) < reason_rank(b); });
-    s.reasons.erase(std::unique(s.reasons.begin(), s.reasons.end()), s.reasons.end());
   }
 }
 

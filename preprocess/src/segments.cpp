@@ -3,12 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "roadcross/preprocess/road_network.hpp"
 
 namespace roadcross::preprocess {
 
-double polyline_length_m(const std::vector<PlanePoint>& points) noexcept {
+double polyline_length_m(std::span<const PlanePoint> points) noexcept {
   double length = 0.0;
   for (std::size_t i = 1; i < points.size(); ++i) {
     length += std::hypot(points[i].x - points[i - 1].x, points[i].y - points[i - 1].y);
@@ -52,14 +53,38 @@ struct NodeRun {
   std::vector<PlanePoint> points;
 };
 
+/// The UTM points of RoadNetwork::locations, in the same order (sorted by OSM id): a lookup is
+/// a binary search, and the table costs 16 bytes a node instead of a hash map's ~60.
+class ProjectedNodes {
+ public:
+  ProjectedNodes(const std::vector<NodeLocation>& locations, const geo::UtmZone& zone)
+      : locations_(locations) {
+    points_.reserve(locations.size());
+    for (const NodeLocation& n : locations) {
+      const geo::UtmPoint p = geo::wgs84_to_utm(n.lat_deg, n.lon_deg, zone);
+      points_.push_back({p.easting_m, p.northing_m});
+    }
+  }
+  const PlanePoint* find(std::int64_t id) const {
+    const auto it = std::lower_bound(
+        locations_.begin(), locations_.end(), id,
+        [](const NodeLocation& n, std::int64_t wanted) { return n.osm_id < wanted; });
+    if (it == locations_.end() || it->osm_id != id) return nullptr;
+    return &points_[static_cast<std::size_t>(it - locations_.begin())];
+  }
+
+ private:
+  const std::vector<NodeLocation>& locations_;
+  std::vector<PlanePoint> points_;
+};
+
 /// Splits a way's node list into runs of located nodes, dropping consecutive duplicates.
-std::vector<NodeRun> located_runs(const RoadWay& way, const RoadNetwork& network,
-                                  const std::unordered_map<std::int64_t, PlanePoint>& projected,
+std::vector<NodeRun> located_runs(const RoadWay& way, const ProjectedNodes& projected,
                                   std::uint64_t& dropped_refs) {
   std::vector<NodeRun> runs(1);
   for (std::int64_t id : way.node_ids) {
-    auto it = projected.find(id);
-    if (it == projected.end()) {
+    const PlanePoint* point = projected.find(id);
+    if (!point) {
       ++dropped_refs;
       if (!runs.back().ids.empty()) runs.emplace_back();
       continue;
@@ -67,9 +92,8 @@ std::vector<NodeRun> located_runs(const RoadWay& way, const RoadNetwork& network
     NodeRun& run = runs.back();
     if (!run.ids.empty() && run.ids.back() == id) continue;
     run.ids.push_back(id);
-    run.points.push_back(it->second);
+    run.points.push_back(*point);
   }
-  (void)network;
   std::erase_if(runs, [](const NodeRun& r) { return r.ids.size() < 2; });
   return runs;
 }
@@ -102,7 +126,10 @@ void cut_piece(RoadGraph& graph, std::size_t piece_index, const RoadWay& way, do
   piece.first_segment = graph.segments.size();
   piece.segment_count = count;
 
-  const std::string name(tag_value(way.tags, "name"));
+  const std::string_view highway = *graph.text.intern(way.highway);
+  const std::string_view name_tag = tag_value(way.tags, "name");
+  const std::string_view name =
+      name_tag.empty() ? std::string_view() : *graph.text.intern(name_tag);
   const bool oneway = way_is_oneway(way.tags);
   const bool tunnel = way_is_tunnel(way.tags);
   const bool bridge = is_yes(tag_value(way.tags, "bridge"));
@@ -114,11 +141,12 @@ void cut_piece(RoadGraph& graph, std::size_t piece_index, const RoadWay& way, do
     const double end_m = (k + 1 == count) ? piece.length_m : part_m * static_cast<double>(k + 1);
     Segment segment;
     segment.id = static_cast<std::int64_t>(graph.segments.size()) + 1;
-    segment.way_index = piece.way_index;
-    segment.piece_index = piece_index;
+    // 32-bit indices (checked in build_road_graph): 4 G ways or pieces is beyond any planet file.
+    segment.way_index = static_cast<std::uint32_t>(piece.way_index);
+    segment.piece_index = static_cast<std::uint32_t>(piece_index);
     segment.offset_in_piece_m = start_m;
     segment.osm_way_id = way.osm_id;
-    segment.highway = way.highway;
+    segment.highway = highway;
     segment.name = name;
     segment.oneway = oneway;
     segment.tunnel = tunnel;
@@ -148,17 +176,15 @@ RoadGraph build_road_graph(const RoadNetwork& network, geo::UtmZone zone,
                            double max_segment_length_m) {
   RoadGraph graph;
   graph.zone = zone;
-  std::unordered_map<std::int64_t, PlanePoint> projected;
-  projected.reserve(network.locations.size());
-  for (const NodeLocation& n : network.locations) {
-    const geo::UtmPoint p = geo::wgs84_to_utm(n.lat_deg, n.lon_deg, zone);
-    projected.emplace(n.osm_id, PlanePoint{p.easting_m, p.northing_m});
+  if (network.ways.size() > std::numeric_limits<std::uint32_t>::max()) {
+    throw std::length_error("more than 4 294 967 295 road ways: segment indices are 32-bit");
   }
+  const ProjectedNodes projected(network.locations, zone);
 
   // Every located run of every way, then how often each node is used across all runs.
   std::vector<std::pair<std::size_t, NodeRun>> runs;
   for (std::size_t w = 0; w < network.ways.size(); ++w) {
-    auto way_runs = located_runs(network.ways[w], network, projected, graph.dropped_node_refs);
+    auto way_runs = located_runs(network.ways[w], projected, graph.dropped_node_refs);
     if (way_runs.empty()) ++graph.dropped_ways;
     for (NodeRun& run : way_runs) runs.emplace_back(w, std::move(run));
   }

@@ -305,7 +305,7 @@ TerrainModel analyse_terrain(Grid elevation, const TerrainParameters& p) {
 
 namespace {
 
-PlanePoint point_along(const std::vector<PlanePoint>& line, double distance_m) {
+PlanePoint point_along(std::span<const PlanePoint> line, double distance_m) {
   for (std::size_t i = 1; i < line.size(); ++i) {
     const double d = std::hypot(line[i].x - line[i - 1].x, line[i].y - line[i - 1].y);
     if (distance_m <= d || i + 1 == line.size()) {
@@ -351,7 +351,7 @@ void assign_structure_run(RoadGraph& graph, const Stroke& stroke, std::size_t fi
 }  // namespace
 
 PlanePoint segment_midpoint(const Segment& s) {
-  return point_along(s.points, 0.5 * s.length_m);
+  return point_along(s.line(), 0.5 * s.length_m);
 }
 
 void sample_terrain(const RoadGraph& graph, const TerrainModel& m,
@@ -393,9 +393,9 @@ void assign_terrain(RoadGraph& graph, const std::vector<TerrainSample>& samples,
     const Landform landform = classify_landform((*s.tpi_small_m - z.small.mean) / z.small_sd_used,
                                                 (*s.tpi_large_m - z.large.mean) / z.large_sd_used,
                                                 s.slope_deg.value_or(0.0), p);
-    s.landform = std::string(landform_name(landform));
+    s.landform = landform_name(landform).data();  // names are literals: NUL-terminated
     landform_cost[i] = p.landform_cost[static_cast<std::size_t>(landform)];
-    if (is_crest_or_dip(landform)) s.reasons.emplace_back("CREST_OR_DIP");
+    if (is_crest_or_dip(landform)) s.reasons.add("CREST_OR_DIP");
   }
   for (const Stroke& stroke : build_strokes(graph)) {
     // Bridges and tunnels: runs of consecutive structure segments along the stroke.
@@ -433,7 +433,7 @@ void assign_terrain(RoadGraph& graph, const std::vector<TerrainSample>& samples,
     }
   }
   for (Segment& s : graph.segments) {
-    if (!s.elevation_cost) s.reasons.emplace_back("NO_ELEVATION");
+    if (!s.elevation_cost) s.reasons.add("NO_ELEVATION");
   }
 }
 

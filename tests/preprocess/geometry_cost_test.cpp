@@ -54,10 +54,10 @@ struct GraphBuilder {
                    b = piece.length_m * static_cast<double>(k + 1) / n;
       rp::Segment seg;
       seg.id = static_cast<std::int64_t>(graph.segments.size()) + 1;
-      seg.piece_index = graph.pieces.size();
+      seg.piece_index = static_cast<std::uint32_t>(graph.pieces.size());
       seg.offset_in_piece_m = a;
       seg.length_m = b - a;
-      seg.highway = highway;
+      seg.highway = *graph.text.intern(highway);
       seg.from_node_id = node;
       seg.to_node_id = (k + 1 == count) ? to : next_split--;
       node = seg.to_node_id;
@@ -201,7 +201,7 @@ TEST(Curvature, SingleVertexCornerBetweenLongEdgesIsACorner) {
   const auto min_radius = [&](std::size_t piece) {
     double r = 1e9;
     for (const rp::Segment& s : b.graph.segments) {
-      if (s.piece_index == piece) r = std::min(r, *s.radius_m);
+      if (s.piece_index == piece) r = std::min<double>(r, *s.radius_m);
     }
     return r;
   };
@@ -209,7 +209,7 @@ TEST(Curvature, SingleVertexCornerBetweenLongEdgesIsACorner) {
   EXPECT_NEAR(min_radius(1), 50 / (2 * std::sin(kPi / 12)), 1e-6);
   const rp::Segment& at_corner = b.graph.segments[19];  // ends at the corner vertex (200 m)
   EXPECT_EQ(*at_corner.curvature_level, 4);
-  EXPECT_EQ(at_corner.reasons, std::vector<std::string>{"SHARP_BEND"});
+  EXPECT_EQ(at_corner.reasons.list(), std::vector<std::string>{"SHARP_BEND"});
 }
 
 TEST(Curvature, StraightRoadIsStraightLevelZeroCostZero) {
@@ -301,9 +301,7 @@ TEST(Junctions, TJunctionDistancesAlongTheRoad) {
   EXPECT_NEAR(*seg[15].junction_distance_m, 55.0, 1e-9);  // last of 2-3
   EXPECT_NEAR(*seg[19].junction_distance_m, 35.0, 1e-9);  // last of 2-4
   // NEAR_JUNCTION below 15 m: midpoints at 5 m only (the next ones are at 15 m).
-  auto near = [](const rp::Segment& s) {
-    return std::find(s.reasons.begin(), s.reasons.end(), "NEAR_JUNCTION") != s.reasons.end();
-  };
+  auto near = [](const rp::Segment& s) { return s.reasons.contains("NEAR_JUNCTION"); };
   EXPECT_TRUE(near(seg[9]));
   EXPECT_FALSE(near(seg[8]));
   EXPECT_TRUE(near(seg[10]));
@@ -430,9 +428,9 @@ TEST(ClassCost, MotorwayAndTunnelReasons) {
   b.add_piece(5, 6, straight({0, 200}, {30, 200}), "residential");
   for (rp::Segment& s : b.graph.segments) s.tunnel = s.piece_index == 2;
   rp::compute_geometry_costs(b.graph, {});
-  EXPECT_EQ(b.graph.segments[0].reasons, std::vector<std::string>{"NOT_CROSSABLE_CLASS"});
-  EXPECT_EQ(b.graph.segments[3].reasons, std::vector<std::string>{"NOT_CROSSABLE_CLASS"});
-  EXPECT_EQ(b.graph.segments[6].reasons, std::vector<std::string>{"TUNNEL"});
+  EXPECT_EQ(b.graph.segments[0].reasons.list(), std::vector<std::string>{"NOT_CROSSABLE_CLASS"});
+  EXPECT_EQ(b.graph.segments[3].reasons.list(), std::vector<std::string>{"NOT_CROSSABLE_CLASS"});
+  EXPECT_EQ(b.graph.segments[6].reasons.list(), std::vector<std::string>{"TUNNEL"});
 }
 
 TEST(Rank, FormulaEdgesAndReachability) {

@@ -55,7 +55,7 @@ std::vector<const rp::Segment*> segments_of(const rp::RoadGraph& graph, std::int
 }
 
 bool has_reason(const rp::Segment& s, const std::string& code) {
-  return std::find(s.reasons.begin(), s.reasons.end(), code) != s.reasons.end();
+  return s.reasons.contains(code);
 }
 
 std::string refs(long first, long last) {
@@ -301,13 +301,13 @@ TEST(OsmTags, StructuresClassesAndTheCanonicalReasonOrder) {
   const rp::RoadGraph g = build(body);
   const auto first = [&](std::int64_t way) { return *segments_of(g, way).at(0); };
   EXPECT_TRUE(first(1).tunnel);
-  EXPECT_EQ(first(1).reasons, std::vector<std::string>{"TUNNEL"});
+  EXPECT_EQ(first(1).reasons.list(), std::vector<std::string>{"TUNNEL"});
   EXPECT_TRUE(first(2).tunnel);  // covered=yes is a tunnel for a robot: no view of traffic
   EXPECT_TRUE(first(3).bridge);
   EXPECT_FALSE(first(3).tunnel);
   EXPECT_TRUE(first(3).reasons.empty());
   // Forbidding reasons first: class, then structure.
-  EXPECT_EQ(first(4).reasons, (std::vector<std::string>{"NOT_CROSSABLE_CLASS", "TUNNEL"}));
+  EXPECT_EQ(first(4).reasons.list(), (std::vector<std::string>{"NOT_CROSSABLE_CLASS", "TUNNEL"}));
   EXPECT_EQ(*first(4).class_cost, 5);
   EXPECT_TRUE(segments_of(g, 5).empty());  // a footway is not a road
   EXPECT_FALSE(first(6).tunnel);

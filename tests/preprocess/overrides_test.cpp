@@ -151,10 +151,13 @@ TEST(Overrides, TouchesPolygonEdgesAndHoles) {
   using P = roadcross::schema::PlanePoint;
   const std::vector<std::vector<P>> square = {{{0, 0}, {10, 0}, {10, 10}, {0, 10}, {0, 0}},
                                               {{4, 4}, {6, 4}, {6, 6}, {4, 6}, {4, 4}}};
-  EXPECT_TRUE(rp::polyline_touches_polygon({{1, 1}, {2, 2}}, square));       // inside
-  EXPECT_TRUE(rp::polyline_touches_polygon({{-5, 2}, {15, 2}}, square));     // passes through
-  EXPECT_FALSE(rp::polyline_touches_polygon({{4.5, 5}, {5.5, 5}}, square));  // in the hole
-  EXPECT_FALSE(rp::polyline_touches_polygon({{-5, -5}, {-1, 20}}, square));  // outside
+  EXPECT_TRUE(rp::polyline_touches_polygon(std::vector<P>{{1, 1}, {2, 2}}, square));  // inside
+  EXPECT_TRUE(
+      rp::polyline_touches_polygon(std::vector<P>{{-5, 2}, {15, 2}}, square));  // passes through
+  EXPECT_FALSE(
+      rp::polyline_touches_polygon(std::vector<P>{{4.5, 5}, {5.5, 5}}, square));  // in the hole
+  EXPECT_FALSE(
+      rp::polyline_touches_polygon(std::vector<P>{{-5, -5}, {-1, 20}}, square));  // outside
 }
 
 }  // namespace

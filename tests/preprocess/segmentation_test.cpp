@@ -49,7 +49,7 @@ TEST(Segmentation, StraightWayIsCutIntoEqualSegments) {
   ASSERT_EQ(b.graph.segments.size(), 10u);
   for (const rp::Segment& s : b.graph.segments) {
     EXPECT_NEAR(s.length_m, kStraightLength_m / 10, 1e-4);
-    EXPECT_NEAR(rp::polyline_length_m(s.points), s.length_m, 1e-6);
+    EXPECT_NEAR(rp::polyline_length_m(s.line()), s.length_m, 1e-6);
     EXPECT_EQ(s.osm_way_id, 10);
     EXPECT_EQ(s.highway, "residential");
     EXPECT_EQ(s.name, "Straight");
@@ -85,7 +85,7 @@ TEST(Segmentation, InteriorVerticesAreKept) {
   bool kink_kept = false;
   for (const rp::Segment& s : b.graph.segments) {
     total += s.length_m;
-    EXPECT_NEAR(rp::polyline_length_m(s.points), s.length_m, 1e-6);
+    EXPECT_NEAR(rp::polyline_length_m(s.line()), s.length_m, 1e-6);
     if (s.points.size() == 3) kink_kept = true;
   }
   EXPECT_NEAR(total, b.graph.pieces[0].length_m, 1e-6);

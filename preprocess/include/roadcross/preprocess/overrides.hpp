@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -41,7 +42,7 @@ std::vector<Override> parse_overrides(const std::string& text, const std::string
 std::vector<Override> read_overrides(const std::string& path);
 
 /// Does the segment polyline (UTM) touch the polygon (UTM rings, even-odd fill)?
-bool polyline_touches_polygon(const std::vector<PlanePoint>& line,
+bool polyline_touches_polygon(std::span<const PlanePoint> line,
                               const std::vector<std::vector<PlanePoint>>& rings);
 
 /// Applies the overrides to the segments they select (context_score must be set already).

@@ -3,13 +3,19 @@
 // nodes shared by ways); pieces are cut into segments of at most max_segment_length_m.
 #pragma once
 
+#include <boost/container/small_vector.hpp>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
+#include <string_view>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "roadcross/geo.hpp"
+#include "roadcross/preprocess/maybe.hpp"
+#include "roadcross/preprocess/reasons.hpp"
 #include "roadcross/schema/gpkg_geometry.hpp"
 
 namespace roadcross::preprocess {
@@ -18,45 +24,64 @@ using schema::PlanePoint;
 
 struct RoadNetwork;
 
+/// A segment's line: almost always 2 points (a straight 10 m cut), kept inline.
+using SegmentPoints = boost::container::small_vector<PlanePoint, 2>;
+
+/// One short road segment and every cost term the stages fill in. Kept compact (terms as
+/// Maybe<> numbers, reasons as a bit set, texts interned in the graph): a country has tens of
+/// millions of them.
 struct Segment {
   std::int64_t id = 0;             ///< 1-based, stable for identical inputs
-  std::size_t way_index = 0;       ///< index into RoadNetwork::ways
-  std::size_t piece_index = 0;     ///< index into RoadGraph::pieces
+  std::uint32_t way_index = 0;     ///< index into RoadNetwork::ways
+  std::uint32_t piece_index = 0;   ///< index into RoadGraph::pieces
   double offset_in_piece_m = 0.0;  ///< distance from the piece's start to this segment's start
   std::int64_t osm_way_id = 0;
-  std::string highway;
-  std::string name;
+  std::string_view highway;       ///< highway=* value, interned in RoadGraph::text
+  std::string_view name;          ///< the way's name, interned in RoadGraph::text (empty: none)
   std::int64_t from_node_id = 0;  ///< OSM node id, or negative for a split point inside a way
   std::int64_t to_node_id = 0;
-  std::vector<PlanePoint> points;  ///< UTM metres, >= 2 points
+  SegmentPoints points;  ///< UTM metres, >= 2 points
   double length_m = 0.0;
   bool oneway = false;
   bool tunnel = false;
   bool bridge = false;
-
-  // Geometry cost.
-  std::optional<int> class_cost;
-  std::optional<double> junction_distance_m;
-  std::optional<double> radius_m;
-  std::optional<int> curvature_level;
-  std::optional<int> curvature_cost;
-  // Terrain.
-  std::optional<double> elevation_m, slope_deg, grade_percent, tpi_small_m, tpi_large_m;
-  std::optional<std::string> landform;
-  std::optional<int> elevation_cost;
-  // Context.
-  std::optional<double> maxspeed_kmh;
-  std::optional<int> lanes;
-  std::optional<double> width_m;
-  std::optional<int> context_score;
-  std::optional<double> crossing_distance_m;
-  std::optional<std::string> context_defaulted;
-  std::optional<std::string> override_note;
   bool override_no_crossing = false;     ///< an operator override forbids crossing here
   bool override_force_suitable = false;  ///< an operator override declares it suitable
+
+  // Geometry cost.
+  MaybeInt class_cost;
+  MaybeFloat junction_distance_m;
+  MaybeFloat radius_m;
+  MaybeInt curvature_level;
+  MaybeInt curvature_cost;
+  // Terrain.
+  MaybeFloat elevation_m, slope_deg, grade_percent, tpi_small_m, tpi_large_m;
+  const char* landform = nullptr;  ///< a static class name ("plains", "bridge", ...) or none
+  MaybeInt elevation_cost;
+  // Context.
+  MaybeFloat maxspeed_kmh;
+  MaybeInt lanes;
+  MaybeFloat width_m;
+  MaybeInt context_score;
+  MaybeFloat crossing_distance_m;
+  const std::string* context_defaulted = nullptr;  ///< interned in RoadGraph::text, or none
+  const std::string* override_note = nullptr;      ///< interned in RoadGraph::text, or none
   // Result.
-  std::optional<int> rank, score;
-  std::vector<std::string> reasons;
+  MaybeInt rank, score;
+  ReasonSet reasons;
+
+  /// The points as a span (what geometry functions take).
+  std::span<const PlanePoint> line() const noexcept { return {points.data(), points.size()}; }
+};
+
+/// Texts shared by many segments (way names, notes), stored once. Views and pointers into it
+/// stay valid for the pool's lifetime (node-based storage).
+class TextPool {
+ public:
+  const std::string* intern(std::string_view text) { return &*texts_.emplace(text).first; }
+
+ private:
+  std::unordered_set<std::string> texts_;
 };
 
 struct RoadPiece {
@@ -72,6 +97,7 @@ struct RoadPiece {
 
 struct RoadGraph {
   geo::UtmZone zone;
+  TextPool text;  ///< names and notes the segments point into
   std::vector<RoadPiece> pieces;
   /// Number of piece ends at each graph node (a way passing through counts 2, ending counts 1).
   std::unordered_map<std::int64_t, int> degree;
@@ -90,6 +116,6 @@ RoadGraph build_road_graph(const RoadNetwork& network, geo::UtmZone zone,
                            double max_segment_length_m);
 
 /// Length of a polyline, metres.
-double polyline_length_m(const std::vector<PlanePoint>& points) noexcept;
+double polyline_length_m(std::span<const PlanePoint> points) noexcept;
 
 }  // namespace roadcross::preprocess

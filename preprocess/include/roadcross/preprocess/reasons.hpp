@@ -1,0 +1,43 @@
+// The reason codes a segment can carry, as a bit set in their canonical reporting order (what
+// forbids crossing first, then why the place is poor): 4 bytes a segment instead of a vector of
+// strings, and always sorted and unique.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace roadcross::preprocess {
+
+inline constexpr std::array<std::string_view, 12> kReasonCodes = {"NOT_CROSSABLE_CLASS",
+                                                                  "TUNNEL",
+                                                                  "OVERRIDE",
+                                                                  "NEAR_JUNCTION",
+                                                                  "SHARP_BEND",
+                                                                  "CREST_OR_DIP",
+                                                                  "LIMITED_VISIBILITY",
+                                                                  "BUSY_ROAD",
+                                                                  "NO_ELEVATION",
+                                                                  "BRIDGE",
+                                                                  "COVERED",
+                                                                  "TOO_FAR_FROM_ROAD"};
+
+class ReasonSet {
+ public:
+  /// Adds a code of kReasonCodes; throws std::logic_error for any other (a typo in the code).
+  void add(std::string_view code);
+  bool contains(std::string_view code) const;
+  bool empty() const noexcept { return bits_ == 0; }
+  /// The codes, in kReasonCodes order.
+  std::vector<std::string> list() const;
+  /// The codes joined with `separator`, in kReasonCodes order ("" when empty).
+  std::string joined(char separator) const;
+  bool operator==(const ReasonSet&) const = default;
+
+ private:
+  std::uint32_t bits_ = 0;
+};
+
+}  // namespace roadcross::preprocess
