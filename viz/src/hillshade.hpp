@@ -1,0 +1,27 @@
+// A hillshade of the terrain coverage stored in the DB, for the picture's background.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "roadcross/viz/layers.hpp"
+
+namespace roadcross::viz {
+
+/// Grey shades in Cairo's ARGB32 layout (premultiplied; alpha 0 where the grid has no data),
+/// north-up, one pixel per grid cell.
+struct ShadeImage {
+  int width = 0, height = 0;
+  double west_m = 0.0, north_m = 0.0;  ///< UTM of the image's top-left corner
+  double cell_m = 0.0;                 ///< cell size, metres (square cells)
+  std::vector<std::uint32_t> argb;
+};
+
+/// Horn's hillshade (sun at azimuth 315 deg, altitude 45 deg, vertical exaggeration 2) of the
+/// part of GPKG:db:terrain that covers `area`; nullopt when it does not cover it. Throws when
+/// GDAL cannot read the coverage.
+std::optional<ShadeImage> hillshade(const std::string& db_path, const UtmBox& area);
+
+}  // namespace roadcross::viz
