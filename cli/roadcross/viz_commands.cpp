@@ -63,6 +63,7 @@ int RenderCommand::run() {
       out["world_file"] = s.world_file;
       out["width_px"] = s.width_px;
       out["height_px"] = s.height_px;
+      out["map_height_px"] = s.map_height_px;
       out["metres_per_px"] = s.metres_per_px;
       out["extent_utm_m"] = {s.area.min_e_m, s.area.min_n_m, s.area.max_e_m, s.area.max_n_m};
       out["segments"] = s.segments;

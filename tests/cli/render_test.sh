@@ -20,7 +20,8 @@ grey=$(python3 "$PIXELS" grey "$WORK/map.png")
 ((grey > width * height / 4)) && pass "$grey grey hillshade pixels" || fail "only $grey grey pixels"
 "$ROADCROSS" render --db "$WORK/flat.gpkg" -o "$WORK/flat.png" --width 400 >/dev/null
 flat_grey=$(python3 "$PIXELS" grey "$WORK/flat.png")
-((flat_grey < 400 * 290 / 8)) && pass "no hillshade without terrain ($flat_grey grey)" ||
+read -r flat_width flat_height < <(python3 "$PIXELS" size "$WORK/flat.png")
+((flat_grey < flat_width * flat_height / 8)) && pass "no hillshade without terrain ($flat_grey grey)" ||
   fail "$flat_grey grey pixels without terrain"
 
 # Midpoints of segments, in UTM, with the suitability decided here from the columns:

@@ -150,45 +150,59 @@ void panel(cairo_t* cr, double x, double y, double w, double h) {
   cairo_stroke(cr);
 }
 
-void draw_legend(cairo_t* cr, const Frame& f, const ColorScale& scale,
-                 const std::vector<LegendEntry>& entries, bool hillshade) {
-  const double size = 14.0 * f.ui, line = 1.5 * size, pad = 0.7 * size, swatch = 2.2 * size;
-  const std::vector<std::string> notes = {"designated crossing", "over a hillshade of the terrain"};
-  font(cr, size, true);
-  double w = text_width(cr, scale.title());
-  font(cr, size);
-  for (const LegendEntry& e : entries) w = std::max(w, swatch + pad + text_width(cr, e.label));
-  w = std::max(w, swatch + pad + text_width(cr, notes[0]));
-  const double rows = static_cast<double>(1 + entries.size() + 1) + (hillshade ? 0.9 : 0.0);
-  const double h = line * rows + pad;
-  const double x0 = 10 * f.ui, y0 = 10 * f.ui;
-  panel(cr, x0, y0, w + 2 * pad, h);
-  double y = y0 + pad + size;
-  font(cr, size, true);
+// The legend, scale bar and attribution sit in a strip below the map, so that they never hide
+// a segment. Legend entries flow in columns of kLegendRows.
+constexpr int kLegendRows = 4;
+
+struct Strip {
+  double top = 0.0;  ///< y of the strip's top edge (the map's bottom)
+  double size = 14.0, line = 21.0, pad = 10.0;
+  double height() const { return 2 * pad + line * (1 + kLegendRows) + 0.9 * line; }
+};
+
+Strip strip_for(const Frame& f) {
+  Strip strip;
+  strip.top = f.height_px;
+  strip.size = std::max(9.0, 14.0 * f.ui);  // still legible on a small picture
+  strip.line = 1.5 * strip.size;
+  strip.pad = 0.7 * strip.size;
+  return strip;
+}
+
+void draw_legend(cairo_t* cr, const Frame& f, const Strip& st, const ColorScale& scale,
+                 std::vector<LegendEntry> entries, bool hillshade) {
+  const double swatch = 2.2 * st.size;
+  entries.push_back({"designated crossing", Rgb{}});  // drawn as the crossing symbol
+  font(cr, st.size);
+  double column_w = 0;
+  for (const LegendEntry& e : entries) column_w = std::max(column_w, text_width(cr, e.label));
+  column_w += swatch + 3 * st.pad;
+  font(cr, st.size, true);
   cairo_set_source_rgb(cr, 0, 0, 0);
-  cairo_move_to(cr, x0 + pad, y);
+  cairo_move_to(cr, st.pad, st.top + st.pad + st.size);
   cairo_show_text(cr, scale.title().c_str());
-  font(cr, size);
-  for (const LegendEntry& e : entries) {
-    y += line;
-    cairo_set_line_width(cr, std::max(2.0, 4.0 * f.ui));
-    set_color(cr, e.color);
-    cairo_move_to(cr, x0 + pad, y - 0.35 * size);
-    cairo_line_to(cr, x0 + pad + swatch, y - 0.35 * size);
-    cairo_stroke(cr);
+  font(cr, st.size);
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    const double x = st.pad + static_cast<double>(i / kLegendRows) * column_w;
+    const double y = st.top + st.pad + st.size + st.line * static_cast<double>(1 + i % kLegendRows);
+    const double mid = y - 0.35 * st.size;
+    if (i + 1 == entries.size()) {
+      crossing_symbol(cr, x + swatch / 2, mid, crossing_radius(f), f.ui);
+    } else {
+      cairo_set_line_width(cr, std::max(2.0, 4.0 * f.ui));
+      set_color(cr, entries[i].color);
+      cairo_move_to(cr, x, mid);
+      cairo_line_to(cr, x + swatch, mid);
+      cairo_stroke(cr);
+    }
     cairo_set_source_rgb(cr, 0, 0, 0);
-    cairo_move_to(cr, x0 + 2 * pad + swatch, y);
-    cairo_show_text(cr, e.label.c_str());
+    cairo_move_to(cr, x + swatch + st.pad, y);
+    cairo_show_text(cr, entries[i].label.c_str());
   }
-  y += line;
-  crossing_symbol(cr, x0 + pad + swatch / 2, y - 0.35 * size, crossing_radius(f), f.ui);
-  cairo_set_source_rgb(cr, 0, 0, 0);
-  cairo_move_to(cr, x0 + 2 * pad + swatch, y);
-  cairo_show_text(cr, notes[0].c_str());
   if (hillshade) {
-    font(cr, 0.8 * size);
-    cairo_move_to(cr, x0 + pad, y + line * 0.9);
-    cairo_show_text(cr, notes[1].c_str());
+    font(cr, 0.8 * st.size);
+    cairo_move_to(cr, st.pad, st.top + st.height() - st.pad);
+    cairo_show_text(cr, "over a hillshade of the terrain (sun from the north-west)");
   }
 }
 
@@ -200,12 +214,19 @@ double round_length_m(double limit) {
   return power;
 }
 
-void draw_scale_bar(cairo_t* cr, const Frame& f) {
+// Right-aligned in the strip, above the attribution.
+void draw_scale_bar(cairo_t* cr, const Frame& f, const Strip& st) {
   const double length_m = round_length_m(f.width_px * f.metres_per_px / 5.0);
-  const double length_px = length_m / f.metres_per_px, size = 13.0 * f.ui;
-  const double x0 = 16 * f.ui, y0 = f.height_px - 22 * f.ui, bar = 6 * f.ui;
-  panel(cr, x0 - 6 * f.ui, y0 - size - 8 * f.ui, length_px + 12 * f.ui + 60 * f.ui,
-        size + bar + 14 * f.ui);
+  const double length_px = length_m / f.metres_per_px, bar = 6 * f.ui;
+  char label[32];
+  if (length_m >= 1000) {
+    std::snprintf(label, sizeof label, "%g km", length_m / 1000);
+  } else {
+    std::snprintf(label, sizeof label, "%g m", length_m);
+  }
+  font(cr, st.size);
+  const double x0 = f.width_px - st.pad - length_px - text_width(cr, label) - 8 * f.ui;
+  const double y0 = st.top + st.pad + st.line;
   for (int i = 0; i < 4; ++i) {
     cairo_rectangle(cr, x0 + i * length_px / 4, y0, length_px / 4, bar);
     if (i % 2 == 0) {
@@ -219,16 +240,9 @@ void draw_scale_bar(cairo_t* cr, const Frame& f) {
   cairo_set_source_rgb(cr, 0, 0, 0);
   cairo_set_line_width(cr, 1.0);
   cairo_stroke(cr);
-  char label[32];
-  if (length_m >= 1000) {
-    std::snprintf(label, sizeof label, "%g km", length_m / 1000);
-  } else {
-    std::snprintf(label, sizeof label, "%g m", length_m);
-  }
-  font(cr, size);
-  cairo_move_to(cr, x0, y0 - 4 * f.ui);
+  cairo_move_to(cr, x0 - text_width(cr, "0") / 2, y0 - 4 * f.ui);
   cairo_show_text(cr, "0");
-  cairo_move_to(cr, x0 + length_px + 4 * f.ui, y0 + bar);
+  cairo_move_to(cr, x0 + length_px + 6 * f.ui, y0 + bar);
   cairo_show_text(cr, label);
 }
 
@@ -256,15 +270,12 @@ void draw_north_arrow(cairo_t* cr, const Frame& f, const MapInfo& info) {
   cairo_show_text(cr, "N");
 }
 
-void draw_attribution(cairo_t* cr, const Frame& f, const MapInfo& info) {
+void draw_attribution(cairo_t* cr, const Frame& f, const Strip& st, const MapInfo& info) {
   const std::string text =
       std::string(kAttribution) + "  |  roadcross, EPSG:" + std::to_string(info.epsg);
-  font(cr, 12 * f.ui);
-  const double w = text_width(cr, text), pad = 5 * f.ui;
-  const double x = f.width_px - w - 2 * pad, y = f.height_px - 20 * f.ui;
-  panel(cr, x - pad, y, w + 2 * pad, 18 * f.ui);
+  font(cr, 0.9 * st.size);
   cairo_set_source_rgb(cr, 0, 0, 0);
-  cairo_move_to(cr, x, y + 13 * f.ui);
+  cairo_move_to(cr, f.width_px - st.pad - text_width(cr, text), st.top + st.height() - st.pad);
   cairo_show_text(cr, text.c_str());
 }
 
@@ -305,7 +316,9 @@ RenderSummary render_png(const RenderOptions& options) {
   check_writable(options.output_path);
   const MapLayers layers = load_layers(options.db_path, options.bbox);
   const Frame f = make_frame(layers.area, options.width_px);
-  SurfacePtr surface(cairo_image_surface_create(CAIRO_FORMAT_RGB24, f.width_px, f.height_px),
+  const Strip strip = strip_for(f);
+  const int image_height_px = f.height_px + static_cast<int>(std::ceil(strip.height()));
+  SurfacePtr surface(cairo_image_surface_create(CAIRO_FORMAT_RGB24, f.width_px, image_height_px),
                      cairo_surface_destroy);
   ContextPtr cr(cairo_create(surface.get()), cairo_destroy);
   cairo_set_source_rgb(cr.get(), 1, 1, 1);
@@ -316,10 +329,18 @@ RenderSummary render_png(const RenderOptions& options) {
   const ColorScale scale = scale_for(layers, options.color_by, landforms);
   draw_segments(cr.get(), f, layers.segments, scale);
   draw_crossings(cr.get(), f, layers.crossings);
-  draw_legend(cr.get(), f, scale, scale.legend(landforms), summary.hillshade);
-  draw_scale_bar(cr.get(), f);
+  cairo_rectangle(cr.get(), 0, strip.top, f.width_px, strip.height() + 1);
+  cairo_set_source_rgb(cr.get(), 1, 1, 1);  // the strip covers what lies beyond the map
+  cairo_fill(cr.get());
+  cairo_move_to(cr.get(), 0, strip.top + 0.5);
+  cairo_line_to(cr.get(), f.width_px, strip.top + 0.5);
+  cairo_set_source_rgb(cr.get(), 0.4, 0.4, 0.4);
+  cairo_set_line_width(cr.get(), 1.0);
+  cairo_stroke(cr.get());
+  draw_legend(cr.get(), f, strip, scale, scale.legend(landforms), summary.hillshade);
+  draw_scale_bar(cr.get(), f, strip);
   draw_north_arrow(cr.get(), f, layers.info);
-  draw_attribution(cr.get(), f, layers.info);
+  draw_attribution(cr.get(), f, strip, layers.info);
   cairo_surface_flush(surface.get());
 
   const std::string temp = temp_path_for(options.output_path);
@@ -330,7 +351,8 @@ RenderSummary render_png(const RenderOptions& options) {
   commit_file(temp, options.output_path);
   summary.world_file = write_world_file(options.output_path, f);
   summary.width_px = f.width_px;
-  summary.height_px = f.height_px;
+  summary.height_px = image_height_px;
+  summary.map_height_px = f.height_px;
   summary.metres_per_px = f.metres_per_px;
   summary.area = f.area;
   summary.segments = layers.segments.size();
