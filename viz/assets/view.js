@@ -54,6 +54,7 @@
   }
 
   const info = document.getElementById('info');
+  const layerOf = new Map();
   let pinned = null;
   function showInfo(props) {
     info.innerHTML = '<p class="verdict">' + (props.suitable ? 'Suitable' : 'Not suitable') +
@@ -63,8 +64,9 @@
   const segments = L.geoJSON(data.segments, {
     style: styleOf,
     onEachFeature: (feature, layer) => {
+      layerOf.set(feature, layer);
       layer.on('mouseover', () => { layer.setStyle({ weight: 8 }); if (!pinned) showInfo(feature.properties); });
-      layer.on('mouseout', () => { segments.resetStyle(layer); });
+      layer.on('mouseout', () => { if (layer !== found) segments.resetStyle(layer); });
       layer.on('click', () => { pinned = feature; showInfo(feature.properties); });
       layer.bindPopup(() => '<b>' + escapeHtml(feature.properties.name || feature.properties.highway) +
         '</b>' + termsTable(feature.properties));
@@ -128,6 +130,7 @@
   const resultBox = document.getElementById('result');
   const resultJson = document.getElementById('result-json');
   let marker = null;
+  let found = null;  // the segment layer of the last search, drawn wide
   function search(text) {
     const m = text.trim().match(/^(-?\d+(?:\.\d+)?)\s*[,\s]\s*(-?\d+(?:\.\d+)?)$/);
     if (!m) {
@@ -139,13 +142,18 @@
     const { feature, ...answer } = a;
     resultJson.textContent = JSON.stringify(answer);
     if (marker) marker.remove();
-    marker = L.marker([lat, lon], { icon: L.divIcon({ className: '', html: '\u2716', iconSize: [14, 14] }) }).addTo(map);
+    marker = L.marker([lat, lon], { icon: L.divIcon({ className: '', html: '<b style="font-size:18px">\u2716</b>', iconSize: [18, 18] }) }).addTo(map);
     if (a.error) { resultBox.innerHTML = '<p class="error">' + escapeHtml(a.error) + '</p>'; return; }
     resultBox.innerHTML = '<p class="verdict">' + (a.suitable ? 'Suitable place to cross' : 'Not suitable') +
       '</p><p>' + escapeHtml(a.name || a.highway) + ' (segment ' + a.segment_id + '), ' +
       a.distance_m.toFixed(1) + ' m from the centreline</p>' + reasonList(a.reasons);
     pinned = feature;
     showInfo(feature.properties);
+    if (found) segments.resetStyle(found);
+    found = layerOf.get(feature);
+    found.setStyle({ weight: 9 });
+    found.bringToFront();
+    map.setView([lat, lon], Math.max(map.getZoom(), 18));
   }
 
   document.getElementById('search').addEventListener('submit', (event) => {
