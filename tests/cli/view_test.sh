@@ -1,17 +1,19 @@
 #!/usr/bin/env bash
 # roadcross view in headless Chromium: the page works offline (no http(s) resource), loads with
-# no console message (a broken page proves the check can fail), draws one path per segment, and
-# its screenshot shows the network in the render's colours in about the render's proportion; the
-# coordinate search gives roadcross assess's segment, verdict and reasons.
+# no console message (a broken page proves the check can fail), draws one path per segment over
+# the hillshade, and its screenshot shows the network in the render's colours in about the
+# render's proportion; the coordinate search gives roadcross assess's segment, verdict and
+# reasons.
 source "$(dirname "$0")/lib.sh"
 PIXELS="$(dirname "$0")/png_pixels.py"
 CHROMIUM=$(command -v chromium || command -v chromium-browser || true)
 [[ -n $CHROMIUM ]] || { echo "chromium not installed (scripts/setup.sh installs it)" >&2; exit 1; }
-"$ROADCROSS_BUILD" --osm "$PRAGUE_OSM" -o "$WORK/prague.gpkg" -q
+"$ROADCROSS_BUILD" --osm "$PRAGUE_OSM" --elevation "$ROADCROSS_MAPS_DIR/prague/N50E014.hgt" \
+  -o "$WORK/prague.gpkg" -q
 "$ROADCROSS" view --db "$WORK/prague.gpkg" -o "$WORK/view" >/dev/null
 count=$(sqlite3 "$WORK/prague.gpkg" "SELECT count(*) FROM segments")
 
-for f in index.html data.js view.js view.css leaflet/leaflet.js leaflet/leaflet.css leaflet/LICENSE; do
+for f in index.html data.js view.js view.css hillshade.png leaflet/leaflet.js leaflet/leaflet.css leaflet/LICENSE; do
   [[ -s $WORK/view/$f ]] || fail "missing $f"
 done
 grep -Eq '(src|href)="https?:' "$WORK/view/index.html" && fail "the page loads something from the network" ||
@@ -43,6 +45,10 @@ crossing_paths=$(sqlite3 "$WORK/prague.gpkg" "SELECT count(*) FROM crossings WHE
 ((paths == count + crossing_paths)) && pass "$paths paths: $count segments + $crossing_paths crossings" ||
   fail "$paths paths for $count segments + $crossing_paths crossings"
 grep -q "$count segments" "$WORK/dom.html" && pass "subtitle counts $count segments" || fail "subtitle missing"
+grep -Eo '<img[^>]*hillshade.png[^>]*>' "$WORK/dom.html" | grep -q leaflet-image-layer && pass "hillshade overlay" ||
+  fail "no hillshade overlay"
+grey=$(python3 "$PIXELS" grey "$WORK/shot.png")
+((grey > 200000)) && pass "screenshot: $grey grey hillshade pixels" || fail "screenshot: only $grey grey pixels"
 
 # The screenshot shows both colours, in about the proportion of the PNG render of the same map.
 "$ROADCROSS" render --db "$WORK/prague.gpkg" -o "$WORK/render.png" >/dev/null
@@ -63,13 +69,34 @@ data = json.loads(text[text.index('{'):text.rindex('}') + 1])
 features = [f for f in data['segments']['features'] if f['properties']['length_m'] > 8]
 picked = [next(f for f in features if f['properties']['suitable']),
           next(f for f in features if not f['properties']['suitable'])]
-for k, f in enumerate(picked):
+for f in picked:
     c = f['geometry']['coordinates']
     i = len(c) // 2 - 1 if len(c) > 2 else 0
     lon, lat = (c[i][0] + c[i + 1][0]) / 2, (c[i][1] + c[i + 1][1]) / 2
     print(f'{lat:.7f} {lon:.7f}')
-    if k == 0:  # 25 m north of it: not valid (TOO_FAR_FROM_ROAD) unless another road is there
-        print(f'{lat + 25 / 111195:.7f} {lon:.7f}')
+# A place 15..60 m from the nearest road (TOO_FAR_FROM_ROAD), whose second-nearest segment is
+# clearly further (no tie for the page and the runtime to break differently).
+kx, ky = 111195 * math.cos(math.radians(50.08)), 111195
+def distance(p, coords):
+    best = math.inf
+    for a, b in zip(coords, coords[1:]):
+        ax, ay, bx, by = (a[0] - p[0]) * kx, (a[1] - p[1]) * ky, (b[0] - p[0]) * kx, (b[1] - p[1]) * ky
+        dx, dy = bx - ax, by - ay
+        l2 = dx * dx + dy * dy
+        t = max(0, min(1, -(ax * dx + ay * dy) / l2)) if l2 else 0
+        best = min(best, math.hypot(ax + t * dx, ay + t * dy))
+    return best
+def far_place():
+    for f in features[::41]:
+        c = f['geometry']['coordinates']
+        for dx, dy in ((0, 30), (0, -30), (30, 0), (-30, 0), (0, 50), (0, -50), (50, 0), (-50, 0)):
+            p = (c[0][0] + dx / kx, c[0][1] + dy / ky)
+            d = sorted(distance(p, g['geometry']['coordinates']) for g in data['segments']['features'])
+            if 15 < d[0] < 60 and d[1] > d[0] + 3:
+                return p
+    raise SystemExit('no place 15..60 m from a road found')
+p = far_place()
+print(f'{p[1]:.7f} {p[0]:.7f}')
 PY
 while read -r lat lon; do
   browse "file://$WORK/view/index.html#$lat,$lon" --dump-dom >"$WORK/search.html" 2>/dev/null
@@ -87,6 +114,9 @@ print(a["segment_id"], int(a["valid"]), int(a["suitable"]), ",".join(a["reasons"
     fail "search $lat,$lon: page '$page', assess '$cli'"
   fi
 done <"$WORK/places.txt"
+[[ $(wc -l <"$WORK/places.txt") == 3 ]] || fail "expected 3 search places"
+grep -q "TOO_FAR_FROM_ROAD" "$WORK/search.html" && pass "the last search is off the road" ||
+  fail "the off-road search did not give TOO_FAR_FROM_ROAD"
 
 expect_failure "bbox outside the map" "lies outside the map" -- \
   "$ROADCROSS" view --db "$WORK/prague.gpkg" -o "$WORK/v2" --bbox 16.0,49.0,16.1,49.1

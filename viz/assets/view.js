@@ -19,6 +19,11 @@
   map.attributionControl.setPrefix('Leaflet');
   map.attributionControl.addAttribution(meta.attribution);
 
+  // The terrain under the network, when the DB holds it (faint, as in roadcross render).
+  if (meta.hillshade) {
+    L.imageOverlay(meta.hillshade.file, meta.hillshade.bounds, { opacity: 0.45 }).addTo(map);
+  }
+
   function colorOf(props) {
     return props.suitable ? meta.colors.suitable : meta.colors.unsuitable;
   }
@@ -89,7 +94,8 @@
   document.getElementById('legend').innerHTML =
     '<div><span class="swatch" style="background:' + meta.colors.suitable + '"></span>suitable</div>' +
     '<div><span class="swatch" style="background:' + meta.colors.unsuitable + '"></span>not suitable</div>' +
-    '<div><span class="dot"></span>designated crossing</div>';
+    '<div><span class="dot"></span>designated crossing</div>' +
+    (meta.hillshade ? '<div class="hint">over a hillshade of the terrain</div>' : '');
 
   // Distance from p to the polyline, both [lon, lat], metres, in a frame centred on p.
   function distanceToLine(p, coords) {

@@ -22,11 +22,10 @@ namespace {
 
 using DatasetPtr = std::unique_ptr<GDALDataset, decltype(&GDALClose)>;
 
+// Opens the DB with OGR; call after Map::open, which says what is wrong with a file that is not
+// a roadcross map better than GDAL can.
 DatasetPtr open_db(const std::string& path) {
   GDALAllRegister();
-  // Through the runtime first: it says what is wrong with a file that is not a roadcross map.
-  Result<Map> map = Map::open(path);
-  if (!map.ok()) throw std::runtime_error(map.status.message);
   GDALDataset* ds =
       GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, nullptr, nullptr, nullptr);
   if (!ds) throw std::runtime_error(path + ": GDAL cannot open it as a GeoPackage");
@@ -98,10 +97,11 @@ ExportSummary write_geojson(const ExportOptions& options, const std::string& pat
     throw std::invalid_argument("--format '" + options.format + "': only geojson is supported");
   if (options.layer != "segments" && options.layer != "crossings")
     throw std::invalid_argument("--layer '" + options.layer + "': expected segments or crossings");
+  Result<Map> map = Map::open(options.db_path);
+  if (!map.ok()) throw std::runtime_error(map.status.message);
   DatasetPtr db = open_db(options.db_path);
   OGRLayer* in = db->GetLayerByName(options.layer.c_str());
   if (!in) throw std::runtime_error(options.db_path + ": no table '" + options.layer + "'");
-  Result<Map> map = Map::open(options.db_path);
   if (options.bbox) {
     const UtmBox box = bbox_in_map(*options.bbox, map->info());
     in->SetSpatialFilterRect(box.min_e_m, box.min_n_m, box.max_e_m, box.max_n_m);

@@ -95,4 +95,86 @@ std::optional<ShadeImage> hillshade(const std::string& db_path, const UtmBox& ar
   return image;
 }
 
+namespace {
+
+double mercator_y(double lat_deg) {
+  return std::log(std::tan(std::numbers::pi / 4 + lat_deg * std::numbers::pi / 360));
+}
+
+double mercator_lat_deg(double y) {
+  return (2 * std::atan(std::exp(y)) - std::numbers::pi / 2) * 180 / std::numbers::pi;
+}
+
+// UTM of output pixel centres, exact on a coarse lattice and bilinear in between: the
+// projection bends far too little over a few pixels for the difference to show.
+class PixelToUtm {
+ public:
+  static constexpr int kStep = 16;
+  PixelToUtm(const MercatorShade& m, int width, int height, const geo::UtmZone& zone)
+      : cols_(width / kStep + 2), rows_(height / kStep + 2) {
+    const double y_top = mercator_y(m.north_lat_deg), y_bottom = mercator_y(m.south_lat_deg);
+    for (int r = 0; r < rows_; ++r) {
+      for (int c = 0; c < cols_; ++c) {
+        const double px = c * kStep + 0.5, py = r * kStep + 0.5;
+        const double lon = m.west_lon_deg + px / width * (m.east_lon_deg - m.west_lon_deg);
+        const double lat = mercator_lat_deg(y_top - py / height * (y_top - y_bottom));
+        const geo::UtmPoint p = geo::wgs84_to_utm(lat, lon, zone);
+        lattice_.push_back({p.easting_m, p.northing_m});
+      }
+    }
+  }
+  schema::PlanePoint at(int x, int y) const {
+    const int c = x / kStep, r = y / kStep;
+    const double fx = (x % kStep) / double(kStep), fy = (y % kStep) / double(kStep);
+    auto node = [&](int dc, int dr) { return lattice_[std::size_t((r + dr) * cols_ + c + dc)]; };
+    auto mix = [](double a, double b, double t) { return a + (b - a) * t; };
+    const auto a = node(0, 0), b = node(1, 0), d = node(0, 1), e = node(1, 1);
+    return {mix(mix(a.x, b.x, fx), mix(d.x, e.x, fx), fy),
+            mix(mix(a.y, b.y, fx), mix(d.y, e.y, fx), fy)};
+  }
+
+ private:
+  int cols_, rows_;
+  std::vector<schema::PlanePoint> lattice_;
+};
+
+}  // namespace
+
+std::optional<MercatorShade> mercator_hillshade(const std::string& db_path, const UtmBox& area,
+                                                const geo::UtmZone& zone, int max_width_px) {
+  const std::optional<ShadeImage> shade = hillshade(db_path, area);
+  if (!shade) return std::nullopt;
+  MercatorShade m;
+  m.west_lon_deg = m.south_lat_deg = INFINITY;
+  m.east_lon_deg = m.north_lat_deg = -INFINITY;
+  for (double e : {area.min_e_m, area.max_e_m}) {
+    for (double n : {area.min_n_m, area.max_n_m}) {
+      const geo::LatLon p = geo::utm_to_wgs84(e, n, zone);
+      m.west_lon_deg = std::min(m.west_lon_deg, p.lon_deg);
+      m.east_lon_deg = std::max(m.east_lon_deg, p.lon_deg);
+      m.south_lat_deg = std::min(m.south_lat_deg, p.lat_deg);
+      m.north_lat_deg = std::max(m.north_lat_deg, p.lat_deg);
+    }
+  }
+  const int width = std::clamp(static_cast<int>(area.width_m() / shade->cell_m), 2, max_width_px);
+  const double aspect = (mercator_y(m.north_lat_deg) - mercator_y(m.south_lat_deg)) /
+                        ((m.east_lon_deg - m.west_lon_deg) * std::numbers::pi / 180);
+  const int height = std::max(2, static_cast<int>(std::lround(width * aspect)));
+  m.image.width = width;
+  m.image.height = height;
+  m.image.argb.assign(std::size_t(width) * std::size_t(height), 0u);
+  const PixelToUtm to_utm(m, width, height, zone);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const schema::PlanePoint p = to_utm.at(x, y);
+      const auto col = static_cast<long>(std::floor((p.x - shade->west_m) / shade->cell_m));
+      const auto row = static_cast<long>(std::floor((shade->north_m - p.y) / shade->cell_m));
+      if (col < 0 || row < 0 || col >= shade->width || row >= shade->height) continue;
+      m.image.argb[std::size_t(y) * std::size_t(width) + std::size_t(x)] =
+          shade->argb[std::size_t(row) * std::size_t(shade->width) + std::size_t(col)];
+    }
+  }
+  return m;
+}
+
 }  // namespace roadcross::viz

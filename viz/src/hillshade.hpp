@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "roadcross/geo.hpp"
 #include "roadcross/viz/layers.hpp"
 
 namespace roadcross::viz {
@@ -23,5 +24,16 @@ struct ShadeImage {
 /// part of GPKG:db:terrain that covers `area`; nullopt when it does not cover it. Throws when
 /// GDAL cannot read the coverage.
 std::optional<ShadeImage> hillshade(const std::string& db_path, const UtmBox& area);
+
+/// A shade image in Web Mercator (what web maps draw), north-up, covering a WGS84 box.
+struct MercatorShade {
+  ShadeImage image;  ///< west_m/north_m/cell_m unused
+  double west_lon_deg = 0.0, south_lat_deg = 0.0, east_lon_deg = 0.0, north_lat_deg = 0.0;
+};
+
+/// The hillshade of `area` resampled (nearest cell) into Web Mercator, at most `max_width_px`
+/// wide, for the viewer's image overlay; nullopt when the terrain does not cover `area`.
+std::optional<MercatorShade> mercator_hillshade(const std::string& db_path, const UtmBox& area,
+                                                const geo::UtmZone& zone, int max_width_px);
 
 }  // namespace roadcross::viz
