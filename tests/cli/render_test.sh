@@ -123,6 +123,8 @@ expect_failure "malformed bbox" "MINLON,MINLAT,MAXLON,MAXLAT" -- \
   "$ROADCROSS" render --db "$WORK/prague.gpkg" -o "$WORK/x.png" --bbox 14.4,50.0
 expect_failure "unwritable output" "cannot write /nonexistent/x.png" "does not exist" -- \
   "$ROADCROSS" render --db "$WORK/prague.gpkg" -o /nonexistent/x.png
+expect_failure "width out of range" "--width must be in 200..10000" -- \
+  "$ROADCROSS" render --db "$WORK/prague.gpkg" -o "$WORK/x.png" --width 50
 expect_failure "missing DB" "no-such.gpkg" -- "$ROADCROSS" render --db "$WORK/no-such.gpkg" -o "$WORK/x.png"
 cp "$WORK/flat.gpkg" "$WORK/nocrossings.gpkg"
 sqlite3 "$WORK/nocrossings.gpkg" "DROP TABLE crossings"

@@ -120,6 +120,7 @@ grep -q "TOO_FAR_FROM_ROAD" "$WORK/search.html" && pass "the last search is off 
 
 expect_failure "bbox outside the map" "lies outside the map" -- \
   "$ROADCROSS" view --db "$WORK/prague.gpkg" -o "$WORK/v2" --bbox 16.0,49.0,16.1,49.1
+[[ ! -e $WORK/v2 ]] && pass "no folder after a failure" || fail "a folder was left after a failure"
 touch "$WORK/file"
 expect_failure "output is a file" "is not a folder" -- "$ROADCROSS" view --db "$WORK/prague.gpkg" -o "$WORK/file"
 expect_failure "output cannot be created" "cannot create folder /proc/roadcross-view" -- \

@@ -98,8 +98,9 @@ std::string data_script(const ViewOptions& options, const MapLayers& layers,
 }  // namespace
 
 ViewSummary write_view(const ViewOptions& options) {
-  prepare_folder(options.output_dir);
+  // Read (and check the bbox) first: a failure leaves no empty folder behind.
   const MapLayers layers = load_layers(options.db_path, options.bbox);
+  prepare_folder(options.output_dir);
   const std::filesystem::path dir(options.output_dir);
   ViewSummary summary;
   for (const auto& [name, bytes] : assets::embedded_files()) {
