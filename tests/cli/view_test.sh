@@ -86,12 +86,21 @@ def distance(p, coords):
         t = max(0, min(1, -(ax * dx + ay * dy) / l2)) if l2 else 0
         best = min(best, math.hypot(ax + t * dx, ay + t * dy))
     return best
+boxes = []
+for g in data['segments']['features']:
+    c = g['geometry']['coordinates']
+    boxes.append((min(x for x, _ in c), min(y for _, y in c), max(x for x, _ in c), max(y for _, y in c), c))
+def distances(p, reach_m=100):
+    # Only segments whose box comes within reach_m: further ones cannot be among the nearest two.
+    rx, ry = reach_m / kx, reach_m / ky
+    return sorted(distance(p, c) for x0, y0, x1, y1, c in boxes
+                  if x0 - rx <= p[0] <= x1 + rx and y0 - ry <= p[1] <= y1 + ry) + [math.inf, math.inf]
 def far_place():
     for f in features[::41]:
         c = f['geometry']['coordinates']
         for dx, dy in ((0, 30), (0, -30), (30, 0), (-30, 0), (0, 50), (0, -50), (50, 0), (-50, 0)):
             p = (c[0][0] + dx / kx, c[0][1] + dy / ky)
-            d = sorted(distance(p, g['geometry']['coordinates']) for g in data['segments']['features'])
+            d = distances(p)
             if 15 < d[0] < 60 and d[1] > d[0] + 3:
                 return p
     raise SystemExit('no place 15..60 m from a road found')
