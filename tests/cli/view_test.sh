@@ -126,6 +126,10 @@ done <"$WORK/places.txt"
 [[ $(wc -l <"$WORK/places.txt") == 3 ]] || fail "expected 3 search places"
 grep -q "TOO_FAR_FROM_ROAD" "$WORK/search.html" && pass "the last search is off the road" ||
   fail "the off-road search did not give TOO_FAR_FROM_ROAD"
+# The panel explains it in the runtime's words (describe_reason) and lists the segment's terms.
+grep -q "too far from the road centreline to be at the kerb" "$WORK/search.html" &&
+  grep -q "<td>score + context</td>" "$WORK/search.html" && pass "the panel shows reasons and terms" ||
+  fail "the panel lacks the reason's sentence or the terms table"
 
 expect_failure "bbox outside the map" "lies outside the map" -- \
   "$ROADCROSS" view --db "$WORK/prague.gpkg" -o "$WORK/v2" --bbox 16.0,49.0,16.1,49.1
