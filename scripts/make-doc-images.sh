@@ -20,6 +20,7 @@ mkdir -p "$out"
   --color-by landform
 "$bin/roadcross" view --db "$tmp/prague.gpkg" -o "$tmp/prague-view"
 chromium --headless --no-sandbox --disable-gpu --hide-scrollbars --window-size=1200,800 \
+  --user-data-dir="$tmp/chromium-profile" \
   --virtual-time-budget=5000 --screenshot="$out/prague-view.png" \
   "file://$tmp/prague-view/index.html#50.0757,14.4160" 2>/dev/null
 rm -f "$out"/*.pgw  # the world files georeference the PNGs; the guide does not need them

@@ -23,7 +23,9 @@ grep -q "OpenStreetMap contributors" "$WORK/view/index.html" && pass "attributio
 # browse URL OUTPUT_ARGS...: headless Chromium, console messages on stderr.
 browse() {
   local url=$1; shift
+  # Its own profile folder: nothing read from or left in $HOME, no clash with another Chromium.
   timeout 60 "$CHROMIUM" --headless --no-sandbox --disable-gpu --hide-scrollbars --window-size=1200,900 \
+    --user-data-dir="$WORK/chromium-profile" \
     --enable-logging=stderr --v=0 --virtual-time-budget=5000 "$@" "$url"
 }
 console_messages() { grep -E 'CONSOLE|Uncaught' "$1" || true; }
