@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <memory>
 #include <stdexcept>
 
@@ -21,7 +20,7 @@ namespace {
 
 constexpr int kMinWidthPx = 200;
 constexpr int kMaxSidePx = 10000;
-constexpr double kPaddingFraction = 0.04;  // room around the network for the legend's edges
+constexpr double kPaddingFraction = 0.04;  // a margin so that no line ends at the frame
 constexpr const char* kAttribution = "\u00a9 OpenStreetMap contributors";
 constexpr const char* kFont = "DejaVu Sans";
 
