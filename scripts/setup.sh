@@ -12,8 +12,12 @@ packages=(
   libsqlite3-dev libgeographiclib-dev
   # cli and tests
   libcli11-dev nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev
+  # render (Cairo draws the PNG; its text needs a font)
+  libcairo2-dev fonts-dejavu-core
   # checking tools used by tests and benchmarks
   osmium-tool gdal-bin sqlite3 time bc gnuplot-nox
+  # the viewer's test loads the page in headless Chromium
+  chromium
 )
 
 missing=()

@@ -5,6 +5,9 @@
 #include <vector>
 
 #include "commands.hpp"
+#ifdef ROADCROSS_WITH_VIZ
+#include "viz_commands.hpp"
+#endif
 #include "roadcross/version.hpp"
 
 int main(int argc, char** argv) {
@@ -14,7 +17,12 @@ int main(int argc, char** argv) {
       "  roadcross info prague.gpkg\n"
       "  roadcross nearest --db prague.gpkg --lat 50.0755 --lon 14.4186\n"
       "  roadcross heading --db prague.gpkg --utm 458803 5546712 --json\n"
-      "  roadcross assess --db prague.gpkg --lat 50.075769 --lon 14.416015\n",
+      "  roadcross assess --db prague.gpkg --lat 50.075769 --lon 14.416015\n"
+#ifdef ROADCROSS_WITH_VIZ
+      "  roadcross render --db prague.gpkg -o prague.png\n"
+      "  roadcross view --db prague.gpkg -o prague-view\n"
+#endif
+      ,
       "roadcross"};
   app.set_version_flag("--version", std::string("roadcross ") + roadcross::kVersion);
   app.require_subcommand(1);
@@ -26,6 +34,11 @@ int main(int argc, char** argv) {
   commands.push_back(std::make_unique<roadcross::cli::BetterCommand>(app));
   commands.push_back(std::make_unique<roadcross::cli::MonitorCommand>(app));
   commands.push_back(std::make_unique<roadcross::cli::BatchCommand>(app));
+#ifdef ROADCROSS_WITH_VIZ
+  commands.push_back(std::make_unique<roadcross::cli::RenderCommand>(app));
+  commands.push_back(std::make_unique<roadcross::cli::ExportCommand>(app));
+  commands.push_back(std::make_unique<roadcross::cli::ViewCommand>(app));
+#endif
   CLI11_PARSE(app, argc, argv);
   for (const auto& command : commands) {
     if (command->app()->parsed()) return command->run();

@@ -98,6 +98,61 @@ bool has(const std::vector<std::string>& codes, std::string_view code) {
 
 }  // namespace
 
+namespace {
+
+// Reads the segment's identity and cost terms (one primary-key read of the `assessment`
+// statement) into `a` and applies the suitability rule. a.road.segment_id, a.road.distance_m and
+// the thresholds must be set. The one place the rule lives: assess and assess_segment both
+// judge through it, so that a map view can never disagree with assess.
+Status judge(sqlite::Statement& row, Assessment& a) {
+  row.bind(1, a.road.segment_id);
+  if (!row.step()) {
+    row.reset();
+    return Status{StatusCode::not_found,
+                  "no segment with fid " + std::to_string(a.road.segment_id)};
+  }
+  a.road.osm_way_id = row.column_int64(0);
+  a.road.highway = row.column_text_view(1);
+  a.road.name = row.column_text_view(2);
+  a.road.segment_length_m = row.column_double(3);
+  a.class_cost = optional_int(row, 4);
+  a.junction_distance_m = optional_double(row, 5);
+  a.radius_m = optional_double(row, 6);
+  a.curvature_level = optional_int(row, 7);
+  a.curvature_cost = optional_int(row, 8);
+  a.elevation_cost = optional_int(row, 9);
+  if (!row.column_is_null(10)) a.landform.emplace(row.column_text_view(10));
+  a.maxspeed_kmh = optional_double(row, 11);
+  a.lanes = optional_int(row, 12);
+  a.width_m = optional_double(row, 13);
+  a.context_score = optional_int(row, 14);
+  a.crossing_distance_m = optional_double(row, 15);
+  a.rank = optional_int(row, 16);
+  a.score = optional_int(row, 17);
+  // Room for the codes added below (TOO_FAR_FROM_ROAD, NO_ELEVATION, LOW_SCORE, OVERRIDE).
+  split_codes(row.column_text_view(18), a.reasons, 4);
+  a.tunnel = row.column_int64(19) != 0;
+  a.override_note = row.column_text_view(20);
+  const bool no_crossing = row.column_int64(21) != 0;
+  const bool force_suitable = row.column_int64(22) != 0;
+  row.reset();
+
+  a.valid = a.road.distance_m <= a.valid_distance_m;
+  if (!a.valid) a.reasons.insert(a.reasons.begin(), "TOO_FAR_FROM_ROAD");
+  if (!a.elevation_cost && !has(a.reasons, "NO_ELEVATION")) a.reasons.emplace_back("NO_ELEVATION");
+  const int total = a.score.value_or(0) + a.context_score.value_or(0);
+  const bool forbidden = has(a.reasons, "NOT_CROSSABLE_CLASS") || a.tunnel || no_crossing;
+  const bool good_enough = a.score.has_value() && total >= a.threshold;
+  if (!good_enough && !force_suitable) a.reasons.emplace_back("LOW_SCORE");
+  if ((no_crossing || force_suitable) && !has(a.reasons, "OVERRIDE"))
+    a.reasons.emplace_back("OVERRIDE");
+  // An operator's force_suitable overrides the score, never the class, a tunnel or validity.
+  a.suitable = a.valid && !forbidden && (good_enough || force_suitable);
+  return Status{};
+}
+
+}  // namespace
+
 Result<Assessment> Map::assess(const Position& position, const AssessOptions& options) noexcept {
   if (!(options.max_distance_m > 0.0)) {
     return Result<Assessment>{Status{StatusCode::invalid_argument, "max_distance_m must be > 0"},
@@ -111,55 +166,37 @@ Result<Assessment> Map::assess(const Position& position, const AssessOptions& op
     if (!status.ok()) return Result<Assessment>{std::move(status), std::nullopt};
     a.valid_distance_m = options.valid_distance_m.value_or(impl.thresholds.valid_distance_m);
     a.threshold = options.threshold.value_or(impl.thresholds.threshold);
-    // One primary-key read gives the identity and the cost terms.
-    sqlite::Statement& row = impl.queries.assessment;
-    row.bind(1, a.road.segment_id);
-    if (!row.step()) {
-      row.reset();
-      return Result<Assessment>{Status{StatusCode::corrupt_database, "segment without a row"},
-                                std::nullopt};
+    status = judge(impl.queries.assessment, a);
+    if (status.code == StatusCode::not_found) {
+      status = Status{StatusCode::corrupt_database, impl.info.path + ": segment without a row"};
     }
-    a.road.osm_way_id = row.column_int64(0);
-    a.road.highway = row.column_text_view(1);
-    a.road.name = row.column_text_view(2);
-    a.road.segment_length_m = row.column_double(3);
-    a.class_cost = optional_int(row, 4);
-    a.junction_distance_m = optional_double(row, 5);
-    a.radius_m = optional_double(row, 6);
-    a.curvature_level = optional_int(row, 7);
-    a.curvature_cost = optional_int(row, 8);
-    a.elevation_cost = optional_int(row, 9);
-    if (!row.column_is_null(10)) a.landform.emplace(row.column_text_view(10));
-    a.maxspeed_kmh = optional_double(row, 11);
-    a.lanes = optional_int(row, 12);
-    a.width_m = optional_double(row, 13);
-    a.context_score = optional_int(row, 14);
-    a.crossing_distance_m = optional_double(row, 15);
-    a.rank = optional_int(row, 16);
-    a.score = optional_int(row, 17);
-    // Room for the codes added below (TOO_FAR_FROM_ROAD, NO_ELEVATION, LOW_SCORE, OVERRIDE).
-    split_codes(row.column_text_view(18), a.reasons, 4);
-    a.tunnel = row.column_int64(19) != 0;
-    a.override_note = row.column_text_view(20);
-    const bool no_crossing = row.column_int64(21) != 0;
-    const bool force_suitable = row.column_int64(22) != 0;
-    row.reset();
-
-    a.valid = a.road.distance_m <= a.valid_distance_m;
-    if (!a.valid) a.reasons.insert(a.reasons.begin(), "TOO_FAR_FROM_ROAD");
-    if (!a.elevation_cost && !has(a.reasons, "NO_ELEVATION"))
-      a.reasons.emplace_back("NO_ELEVATION");
-    const int total = a.score.value_or(0) + a.context_score.value_or(0);
-    const bool forbidden = has(a.reasons, "NOT_CROSSABLE_CLASS") || a.tunnel || no_crossing;
-    const bool good_enough = a.score.has_value() && total >= a.threshold;
-    if (!good_enough && !force_suitable) a.reasons.emplace_back("LOW_SCORE");
-    if ((no_crossing || force_suitable) && !has(a.reasons, "OVERRIDE"))
-      a.reasons.emplace_back("OVERRIDE");
-    // An operator's force_suitable overrides the score, never the class, a tunnel or validity.
-    a.suitable = a.valid && !forbidden && (good_enough || force_suitable);
+    if (!status.ok()) return Result<Assessment>{std::move(status), std::nullopt};
     return result;
   } catch (const std::exception& e) {
     impl.queries.candidates.reset();
+    impl.queries.assessment.reset();
+    return Result<Assessment>{
+        Status{StatusCode::corrupt_database, impl.info.path + ": " + e.what()}, std::nullopt};
+  }
+}
+
+Result<Assessment> Map::assess_segment(std::int64_t segment_id,
+                                       const AssessOptions& options) noexcept {
+  Impl& impl = *impl_;
+  try {
+    Result<Assessment> result{Status{}, std::optional<Assessment>(std::in_place)};
+    Assessment& a = *result.value;
+    a.valid_distance_m = options.valid_distance_m.value_or(impl.thresholds.valid_distance_m);
+    a.threshold = options.threshold.value_or(impl.thresholds.threshold);
+    a.road.segment_id = segment_id;
+    a.road.distance_m = 0.0;  // standing on the centreline
+    Status status = judge(impl.queries.assessment, a);
+    if (!status.ok()) {
+      status.message = impl.info.path + ": " + status.message;
+      return Result<Assessment>{std::move(status), std::nullopt};
+    }
+    return result;
+  } catch (const std::exception& e) {
     impl.queries.assessment.reset();
     return Result<Assessment>{
         Status{StatusCode::corrupt_database, impl.info.path + ": " + e.what()}, std::nullopt};

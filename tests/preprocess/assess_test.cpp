@@ -113,6 +113,42 @@ TEST_F(Assess, MotorwayAndTunnelAreNeverSuitable) {
   EXPECT_TRUE(has(*tunnel, "TUNNEL"));
 }
 
+// The judgement render/export/view colour with: assess's answer on the centreline, for every
+// segment of the map (quiet road suitable, motorway and tunnel not), and not_found for no fid.
+TEST_F(Assess, AssessSegmentIsAssessOnTheCentreline) {
+  int suitable = 0, segments = 0;
+  for (std::int64_t fid = 1;; ++fid) {
+    const auto by_id = map_->assess_segment(fid);
+    if (by_id.status.code == roadcross::StatusCode::not_found) break;
+    ASSERT_TRUE(by_id.ok()) << by_id.status.message;
+    ++segments;
+    EXPECT_TRUE(by_id->valid);
+    EXPECT_DOUBLE_EQ(by_id->road.distance_m, 0.0);
+    EXPECT_EQ(by_id->road.segment_id, fid);
+    suitable += by_id->suitable ? 1 : 0;
+    if (by_id->road.highway == "motorway" || by_id->tunnel) {
+      EXPECT_FALSE(by_id->suitable);
+    }
+  }
+  EXPECT_GT(segments, 3);
+  EXPECT_GT(suitable, 0);
+  // At the quiet road's middle, 3 m off: the nearest segment's verdict is assess's verdict.
+  const auto a = map_->assess(beside(50.0, 3.0));
+  const auto b = map_->assess_segment(a->road.segment_id);
+  EXPECT_EQ(a->suitable, b->suitable);
+  EXPECT_EQ(a->reasons, b->reasons);
+  EXPECT_EQ(a->road.highway, b->road.highway);
+  // 30 m off: not valid, TOO_FAR_FROM_ROAD in front of the segment's own reasons.
+  const auto far = map_->assess(beside(50.0, 30.0));
+  std::vector<std::string> expected = {"TOO_FAR_FROM_ROAD"};
+  const auto far_segment = map_->assess_segment(far->road.segment_id);
+  expected.insert(expected.end(), far_segment->reasons.begin(), far_segment->reasons.end());
+  EXPECT_EQ(far->reasons, expected);
+  EXPECT_TRUE(far_segment->suitable);
+  EXPECT_FALSE(far->suitable);
+  EXPECT_EQ(map_->assess_segment(999999).status.code, roadcross::StatusCode::not_found);
+}
+
 TEST_F(Assess, ErrorsPassThrough) {
   EXPECT_EQ(map_->assess(Position::wgs84(95.0, 14.4)).status.code,
             roadcross::StatusCode::invalid_argument);

@@ -189,6 +189,15 @@ class Map {
   /// Whether the position is a suitable place to cross, with every cost term and the reasons.
   Result<Assessment> assess(const Position& position, const AssessOptions& options = {}) noexcept;
 
+  /// The same judgement as assess for a position on the centreline of segment `segment_id`
+  /// (distance 0, so valid): for whole-map views (render, export, view) that colour every
+  /// segment and must agree with assess. road.query and road.closest are left at 0; not_found
+  /// when there is no such segment. At a position off the centreline, assess's answer is this
+  /// one with valid = distance <= valid_distance_m, suitable = valid && this suitable, and
+  /// TOO_FAR_FROM_ROAD first among the reasons when not valid.
+  Result<Assessment> assess_segment(std::int64_t segment_id,
+                                    const AssessOptions& options = {}) noexcept;
+
   /// Up to max_candidates places within search_radius_m of walking along the road (through the
   /// road graph, on the robot's side, never across), ranked: suitable first, then designated
   /// crossings, then score + context, then walking distance. Segments near a junction are not

@@ -1,0 +1,49 @@
+// The subcommands that draw a map (render, export, view): full build only, since they link
+// Cairo and GDAL through roadcross::viz; main.cpp registers them when ROADCROSS_WITH_VIZ is set.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "commands.hpp"
+#include "roadcross/viz/export.hpp"
+#include "roadcross/viz/render.hpp"
+#include "roadcross/viz/view.hpp"
+
+namespace roadcross::cli {
+
+/// roadcross render: a PNG of the segments coloured by a cost term, over a hillshade.
+class RenderCommand : public Command {
+ public:
+  explicit RenderCommand(CLI::App& parent);
+  int run() override;
+
+ private:
+  viz::RenderOptions options_;
+  std::string bbox_, color_by_ = "suitable";
+  bool json_ = false;
+};
+
+/// roadcross export: a feature table as GeoJSON in WGS84, every term a property.
+class ExportCommand : public Command {
+ public:
+  explicit ExportCommand(CLI::App& parent);
+  int run() override;
+
+ private:
+  viz::ExportOptions options_;
+  std::string bbox_;
+};
+
+/// roadcross view: a self-contained offline HTML page of the map.
+class ViewCommand : public Command {
+ public:
+  explicit ViewCommand(CLI::App& parent);
+  int run() override;
+
+ private:
+  viz::ViewOptions options_;
+  std::string bbox_;
+};
+
+}  // namespace roadcross::cli
