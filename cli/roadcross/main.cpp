@@ -14,7 +14,9 @@ int main(int argc, char** argv) {
       "  roadcross info prague.gpkg\n"
       "  roadcross nearest --db prague.gpkg --lat 50.0755 --lon 14.4186\n"
       "  roadcross heading --db prague.gpkg --utm 458803 5546712 --json\n"
-      "  roadcross assess --db prague.gpkg --lat 50.075769 --lon 14.416015\n",
+      "  roadcross assess --db prague.gpkg --lat 50.075769 --lon 14.416015\n"
+      "  roadcross gap --db prague.gpkg --utm 458803 5546712 < vehicles.jsonl\n"
+      "  roadcross simulate --lanes 2 --width 7 --maxspeed 50 --volume 150,300,600\n",
       "roadcross"};
   app.set_version_flag("--version", std::string("roadcross ") + roadcross::kVersion);
   app.require_subcommand(1);
@@ -26,6 +28,8 @@ int main(int argc, char** argv) {
   commands.push_back(std::make_unique<roadcross::cli::BetterCommand>(app));
   commands.push_back(std::make_unique<roadcross::cli::MonitorCommand>(app));
   commands.push_back(std::make_unique<roadcross::cli::BatchCommand>(app));
+  commands.push_back(std::make_unique<roadcross::cli::GapCommand>(app));
+  commands.push_back(std::make_unique<roadcross::cli::SimulateCommand>(app));
   CLI11_PARSE(app, argc, argv);
   for (const auto& command : commands) {
     if (command->app()->parsed()) return command->run();

@@ -87,7 +87,7 @@ Status check_common(const GapCrossing& c, const RobotMotion& r, double now_s, co
     return invalid("gap: NaN or infinite crossing coordinate, heading or time");
   }
   if (!(c.road_width_m > 0) || c.lanes < 1 || !(c.maxspeed_kmh > 0) || !finite(c.road_width_m) ||
-      !finite(c.maxspeed_kmh)) {
+      !finite(c.maxspeed_kmh) || (c.junction_distance_m && !(*c.junction_distance_m >= 0))) {
     return invalid("gap: road width, lanes and maxspeed must be positive");
   }
   if (!(r.speed_mps > 0) || !finite(r.speed_mps)) {
@@ -98,7 +98,7 @@ Status check_common(const GapCrossing& c, const RobotMotion& r, double now_s, co
   }
   if (!(o.min_pet_s >= 0) || !(o.safety_buffer_m >= 0) || !(o.speed_uncertainty_fraction >= 0) ||
       !(o.stopped_speed_mps >= 0) || !(o.max_track_age_s > 0) || !(o.sensor_range_m > 0) ||
-      !(o.unseen_speed_factor > 0) || !(o.unseen_length_m > 0)) {
+      !(o.unseen_speed_factor > 0) || !(o.unseen_length_m > 0) || !(o.turning_speed_kmh > 0)) {
     return invalid("gap: options must be >= 0 (age, sensor range, unseen speed/length > 0)");
   }
   return {};
@@ -217,8 +217,16 @@ Result<GapDecision> gap_decision(const GapCrossing& crossing, const RobotMotion&
   // leaves last), faster than the limit. The road must be seen far enough to rule it out.
   const double unseen_speed_mps = crossing.maxspeed_kmh / 3.6 * options.unseen_speed_factor;
   d.required_sight_m = unseen_speed_mps * (far.exit_s + m) + corridor_half_m;
-  const double unseen_margin_s =
+  double unseen_margin_s =
       (options.sensor_range_m - corridor_half_m) / unseen_speed_mps - far.exit_s;
+  // A vehicle turning in at a junction inside the sensor range appears there unannounced,
+  // at turning speed.
+  if (crossing.junction_distance_m && *crossing.junction_distance_m < options.sensor_range_m) {
+    const double turning_mps = options.turning_speed_kmh / 3.6 * options.unseen_speed_factor;
+    unseen_margin_s =
+        std::min(unseen_margin_s,
+                 (*crossing.junction_distance_m - corridor_half_m) / turning_mps - far.exit_s);
+  }
   d.margin_s = unseen_margin_s;
 
   std::vector<std::pair<double, double>> forbidden;
@@ -246,7 +254,7 @@ Result<GapDecision> gap_decision(const GapCrossing& crossing, const RobotMotion&
     // Where is it now? Unknown: wait until the tracker refreshes or drops it.
     d.reason = GapReason::stale_track;
     d.limiting_vehicle = first_stale;
-  } else if (options.sensor_range_m < d.required_sight_m) {
+  } else if (unseen_margin_s < m) {
     d.reason = GapReason::insufficient_sight;
     d.limiting_vehicle = -1;
   } else if (blocked_by >= 0) {
@@ -317,9 +325,6 @@ double sight_distance_m(const Assessment& assessment, double sensor_range_m,
   if (assessment.radius_m && *assessment.radius_m > 0 && clearance_m > 0) {
     sight_m = std::min(sight_m, std::sqrt(8.0 * *assessment.radius_m * clearance_m));
   }
-  if (assessment.junction_distance_m && *assessment.junction_distance_m >= 0) {
-    sight_m = std::min(sight_m, *assessment.junction_distance_m);
-  }
   return sight_m;
 }
 
@@ -338,6 +343,7 @@ Result<GapCrossing> gap_crossing(Map& map, const Position& position,
   c.lanes = a->lanes.value_or(
       std::max(1, static_cast<int>(std::lround(c.road_width_m / defaults.lane_width_m))));
   c.maxspeed_kmh = a->maxspeed_kmh.value_or(defaults.maxspeed_kmh);
+  c.junction_distance_m = a->junction_distance_m;
   return {Status{}, c};
 }
 

@@ -121,6 +121,7 @@ class Run {
     crossing_.road_width_m = s.road.width_m;
     crossing_.lanes = s.road.lanes;
     crossing_.maxspeed_kmh = s.road.maxspeed_kmh;
+    crossing_.junction_distance_m = s.road.junction_distance_m;
     options_ = s.gap;
     options_.sensor_range_m = s.road.sight_m;
   }

@@ -223,13 +223,31 @@ TEST(Gap, VehicleInRobotEnuFrameIsRotatedByConvergence) {
   EXPECT_NEAR(*r->margin_s, 1.2, 1e-9);
 }
 
-TEST(Gap, SightDistanceFromBendAndJunction) {
+TEST(Gap, SightDistanceFromBend) {
   Assessment a;
   EXPECT_DOUBLE_EQ(sight_distance_m(a, 150.0), 150.0);
   a.radius_m = 50.0;  // sqrt(8 * 50 * 3) = 34.64 m
   EXPECT_NEAR(sight_distance_m(a, 150.0), std::sqrt(1200.0), 1e-9);
-  a.junction_distance_m = 20.0;
-  EXPECT_DOUBLE_EQ(sight_distance_m(a, 150.0), 20.0);
+  a.junction_distance_m = 20.0;  // a junction does not block the view
+  EXPECT_NEAR(sight_distance_m(a, 150.0), std::sqrt(1200.0), 1e-9);
+}
+
+TEST(Gap, JunctionCloseByMeansAVehicleCanTurnInUnseen) {
+  // Turning in at 25 / 3.6 * 1.2 = 8.333 m/s. Junction 90 m away: (90 - 1) / 8.333 - 8.5 =
+  // 2.18 s >= 1 -> GO (the range's 3.44 s is not smaller). Junction 80 m away:
+  // (80 - 1) / 8.333 - 8.5 = 0.98 s < 1 -> WAIT, INSUFFICIENT_SIGHT.
+  GapCrossing c = crossing();
+  c.junction_distance_m = 90.0;
+  auto r = gap_decision(c, robot(), {}, 0.0, options());
+  EXPECT_EQ(r->verdict, GapVerdict::go);
+  EXPECT_NEAR(*r->margin_s, 89.0 / (25.0 / 3.6 * 1.2) - 8.5, 1e-9);
+  c.junction_distance_m = 80.0;
+  r = gap_decision(c, robot(), {}, 0.0, options());
+  EXPECT_EQ(r->reason, GapReason::insufficient_sight);
+  EXPECT_NEAR(*r->margin_s, 79.0 / (25.0 / 3.6 * 1.2) - 8.5, 1e-9);
+  // A junction beyond the sensor range is covered by the range rule.
+  c.junction_distance_m = 250.0;
+  EXPECT_EQ(gap_decision(c, robot(), {}, 0.0, options())->verdict, GapVerdict::go);
 }
 
 TEST(Gap, BadInputIsAnError) {

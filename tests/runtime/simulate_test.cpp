@@ -5,8 +5,8 @@
 // at 1.2 m/s after 1 s, radius 0.4 m: it is clear of the far edge after
 //   1 + (0.5 + 7 + 0.4) / 1.2 = 7.5833 s.
 // Our policy needs, for an unseen car at 50 / 3.6 * 1.2 = 16.667 m/s in the far lane (left at
-// 7.5833 s), with a 1.5 s margin and a 0.4 + 0.5 m corridor half-width:
-//   16.667 * (7.5833 + 1.5) + 0.9 = 152.29 m of sight.
+// 7.5833 s), with a 1.2 s margin and a 0.4 + 0.5 m corridor half-width:
+//   16.667 * (7.5833 + 1.2) + 0.9 = 147.29 m of sight.
 #include <gtest/gtest.h>
 
 #include "roadcross/simulate.hpp"
@@ -39,7 +39,7 @@ TEST(Simulate, EmptyRoadEveryPolicyGoesAtOnce) {
 }
 
 TEST(Simulate, ShortSightOursWaitsUntilItGivesUp) {
-  // 100 m < 152.29 m: ours never goes; it decides every 0.1 s for 5 s = 50 times.
+  // 100 m < 147.29 m: ours never goes; it decides every 0.1 s for 5 s = 50 times.
   sim::Scenario s;
   s.volume_veh_h_per_lane = 0.0;
   s.road.sight_m = 100.0;

@@ -27,6 +27,8 @@ struct GapCrossing {
   int lanes = 2;                 ///< equal lanes across the carriageway, >= 1
   double maxspeed_kmh = 50.0;    ///< the speed limit, for the vehicle the sensors cannot see
   double convergence_rad = 0.0;  ///< true_yaw = grid_yaw + convergence (vehicles in robot ENU)
+  /// Distance along the road to the nearest junction, where a vehicle can turn in unseen.
+  std::optional<double> junction_distance_m;
 };
 
 /// Defaults for what the DB does not say.
@@ -63,7 +65,7 @@ struct TrackedVehicle {
 };
 
 struct GapOptions {
-  double min_pet_s = 1.5;        ///< GO only if every predicted PET is at least this
+  double min_pet_s = 1.2;        ///< GO only if every predicted PET is at least this
   double safety_buffer_m = 0.5;  ///< added on each side of the robot's corridor along the road
   double speed_uncertainty_fraction = 0.1;  ///< speed known to +-this fraction, >= 0
   double stopped_speed_mps = 0.1;           ///< slower along the road = stopped (never arrives)
@@ -71,6 +73,7 @@ struct GapOptions {
   double sensor_range_m = 200.0;            ///< road seen this far each way from the crossing, > 0
   double unseen_speed_factor = 1.2;         ///< the unseen vehicle drives maxspeed x this
   double unseen_length_m = 4.5;
+  double turning_speed_kmh = 25.0;  ///< a vehicle turning in at the junction (x unseen factor)
 };
 
 enum class GapVerdict { go, wait };
@@ -78,7 +81,8 @@ enum class GapReason {
   clear,               ///< GO: every vehicle leaves the margin
   vehicle_conflict,    ///< WAIT: a vehicle's predicted PET is below the margin
   blocked,             ///< WAIT: a stopped vehicle stands in the corridor
-  insufficient_sight,  ///< WAIT: a vehicle just beyond the sensor range could arrive too soon
+  insufficient_sight,  ///< WAIT: an unseen vehicle (beyond the sensor range, or turning in at
+                       ///< the junction) could arrive too soon
   stale_track,         ///< WAIT: a track is older than max_track_age_s
   gap_too_short,       ///< WAIT (HCM policy): the next vehicle arrives within the critical gap
 };
@@ -126,9 +130,9 @@ Result<GapDecision> hcm_gap_decision(const GapCrossing& crossing, const RobotMot
                                      const GapOptions& options = {},
                                      const HcmOptions& hcm = {}) noexcept;
 
-/// How far along the road the robot can see at a place: the sensor range, cut by a bend (chord
-/// visible past an obstruction `clearance_m` inside the curve: sqrt(8 R m)) and by a junction
-/// (vehicles turning in appear there). Uses the assessment's radius_m and junction_distance_m.
+/// How far along the road the robot can see at a place: the sensor range, cut by a bend (the
+/// chord visible past an obstruction `clearance_m` inside the curve: sqrt(8 R m), R = the
+/// assessment's radius_m). Junctions do not block the view; gap_decision handles them.
 double sight_distance_m(const Assessment& assessment, double sensor_range_m,
                         double clearance_m = 3.0) noexcept;
 

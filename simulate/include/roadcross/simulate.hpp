@@ -23,6 +23,8 @@ struct Road {
   int lanes = 2;
   double maxspeed_kmh = 50.0;
   double sight_m = 200.0;  ///< the robot sees vehicles this far along the road each way
+  /// Our policy allows for a vehicle turning in here (the simulated traffic has none).
+  std::optional<double> junction_distance_m;
 };
 
 enum class Policy {
