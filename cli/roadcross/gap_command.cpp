@@ -90,20 +90,28 @@ void print_decision(const GapDecision& d, const GapCrossing& c, const GapOptions
   if (d.limiting_vehicle >= 0) {
     std::printf("limiting    vehicle on input line %d\n", lines[d.limiting_vehicle]);
   } else {
-    std::printf("limiting    %s\n", d.margin_s ? "a vehicle unseen beyond the sensor range" : "-");
+    std::printf("limiting    %s\n",
+                d.margin_s ? "an unseen vehicle (sensor range or junction)" : "-");
   }
-  if (d.margin_s)
+  const bool hcm = d.critical_gap_s > 0;
+  if (d.margin_s && hcm) {
+    std::printf("margin      %+.2f s (next arrival minus t_c)\n", *d.margin_s);
+  } else if (d.margin_s) {
     std::printf("margin      %+.2f s (PET; needs %.2f s)\n", *d.margin_s, o.min_pet_s);
+  }
   if (d.earliest_start_s) {
     std::printf("earliest    GO in %.2f s\n", *d.earliest_start_s);
   } else {
     std::printf("earliest    not under these predictions\n");
   }
-  std::printf(
-      "crossing    %.2f s over %d lane(s), %.1f m, %.0f km/h; needs %.0f m of sight (has %.0f)\n",
-      d.crossing_time_s, c.lanes, c.road_width_m, c.maxspeed_kmh, d.required_sight_m,
-      o.sensor_range_m);
-  if (d.critical_gap_s > 0) std::printf("critical    HCM t_c %.2f s\n", d.critical_gap_s);
+  std::printf("crossing    %.2f s over %d lane(s), %.1f m, %.0f km/h\n", d.crossing_time_s, c.lanes,
+              c.road_width_m, c.maxspeed_kmh);
+  if (hcm) {
+    std::printf("critical    HCM t_c %.2f s\n", d.critical_gap_s);
+  } else {
+    std::printf("sight       needs %.0f m each way, sensor range %.0f m\n", d.required_sight_m,
+                o.sensor_range_m);
+  }
   std::printf("vehicles    %d counted, %d stale, %d beyond sensor range\n", d.vehicles_counted,
               d.stale_tracks, d.beyond_sensor_range);
 }
