@@ -48,6 +48,11 @@ SimulateCommand::SimulateCommand(CLI::App& parent) {
       ->capture_default_str();
   app_->add_option("--conflict-pet", scenario_.conflict_pet_s, "conflict when PET below, s")
       ->capture_default_str();
+  app_->add_option("--min-pet", scenario_.gap.min_pet_s, "ours: required PET margin, s")
+      ->capture_default_str();
+  app_->add_option("--speed-uncertainty", scenario_.gap.speed_uncertainty_fraction,
+                   "ours: vehicle speeds known to +- this fraction")
+      ->capture_default_str();
   app_->add_option("--label", label_, "name of the place in the output");
   app_->add_flag("--json", json_, "print JSON instead of a table");
 }

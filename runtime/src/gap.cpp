@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <new>
 #include <vector>
 
 namespace roadcross {
@@ -98,8 +99,8 @@ Status check_common(const GapCrossing& c, const RobotMotion& r, double now_s, co
   }
   if (!(o.min_pet_s >= 0) || !(o.safety_buffer_m >= 0) || !(o.speed_uncertainty_fraction >= 0) ||
       !(o.stopped_speed_mps >= 0) || !(o.max_track_age_s > 0) || !(o.sensor_range_m > 0) ||
-      !(o.unseen_speed_factor > 0) || !(o.unseen_length_m > 0) || !(o.turning_speed_kmh > 0)) {
-    return invalid("gap: options must be >= 0 (age, sensor range, unseen speed/length > 0)");
+      !(o.unseen_speed_factor > 0) || !(o.turning_speed_kmh > 0)) {
+    return invalid("gap: options must be >= 0 (age, sensor range, unseen and turning speed > 0)");
   }
   return {};
 }
@@ -230,7 +231,11 @@ Result<GapDecision> gap_decision(const GapCrossing& crossing, const RobotMotion&
   d.margin_s = unseen_margin_s;
 
   std::vector<std::pair<double, double>> forbidden;
-  forbidden.reserve(vehicles.size());
+  try {
+    forbidden.reserve(vehicles.size());  // the only allocation; emplace_back below cannot throw
+  } catch (const std::bad_alloc&) {
+    return {Status{StatusCode::internal, "gap: out of memory"}, {}};
+  }
   int margin_vehicle = -1, first_stale = -1, blocked_by = -1;
   for (std::size_t i = 0; i < vehicles.size(); ++i) {
     const TrackedVehicle& v = vehicles[i];
@@ -293,7 +298,11 @@ Result<GapDecision> hcm_gap_decision(const GapCrossing& crossing, const RobotMot
       hcm_critical_gap_s(crossing.road_width_m, robot.speed_mps, hcm.start_clearance_s);
   d.crossing_time_s = d.critical_gap_s;
   std::vector<std::pair<double, double>> forbidden;
-  forbidden.reserve(vehicles.size());
+  try {
+    forbidden.reserve(vehicles.size());
+  } catch (const std::bad_alloc&) {
+    return {Status{StatusCode::internal, "gap: out of memory"}, {}};
+  }
   double next_arrival_s = kInf;
   for (std::size_t i = 0; i < vehicles.size(); ++i) {
     const Occupation o =

@@ -72,7 +72,6 @@ struct GapOptions {
   double max_track_age_s = 0.5;             ///< older tracks are stale: WAIT until refreshed
   double sensor_range_m = 200.0;            ///< road seen this far each way from the crossing, > 0
   double unseen_speed_factor = 1.2;         ///< the unseen vehicle drives maxspeed x this
-  double unseen_length_m = 4.5;
   double turning_speed_kmh = 25.0;  ///< a vehicle turning in at the junction (x unseen factor)
 };
 
