@@ -133,6 +133,7 @@ class SimulateCommand : public Command {
   std::uint64_t seed_ = 1;
   std::string label_;
   bool json_ = false;
+  bool per_run_ = false;
   sim::Scenario scenario_;
 };
 

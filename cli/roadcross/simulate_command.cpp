@@ -55,6 +55,8 @@ SimulateCommand::SimulateCommand(CLI::App& parent) {
       ->capture_default_str();
   app_->add_option("--label", label_, "name of the place in the output");
   app_->add_flag("--json", json_, "print JSON instead of a table");
+  app_->add_flag("--per-run", per_run_,
+                 "print every run's metrics, one JSON object per line, instead of the summary");
 }
 
 namespace {
@@ -79,6 +81,32 @@ nlohmann::ordered_json row_json(const Row& r) {
   out["acceptable_gap_share"] = r.a.acceptable_gap_share;
   out["min_pet_s"] = r.a.min_pet_s ? nlohmann::ordered_json(*r.a.min_pet_s) : nullptr;
   return out;
+}
+
+/// One JSON line per run, with the same seeds as the summary uses.
+bool print_runs(const sim::Scenario& s, const std::string& policy, double volume, int runs,
+                std::uint64_t seed) {
+  for (int i = 0; i < runs; ++i) {
+    const Result<sim::RunMetrics> r = sim::simulate_run(s, sim::run_seed(seed, i));
+    if (!r.ok()) {
+      std::cerr << "roadcross: " << r.status.message << "\n";
+      return false;
+    }
+    nlohmann::ordered_json out;
+    out["policy"] = policy;
+    out["volume_veh_h_per_lane"] = volume;
+    out["run"] = i;
+    out["crossed"] = r->crossed;
+    out["collision"] = r->collision;
+    out["conflict"] = r->conflict;
+    out["min_pet_s"] = r->min_pet_s ? nlohmann::ordered_json(*r->min_pet_s) : nullptr;
+    out["waiting_s"] = r->waiting_s;
+    out["crossing_s"] = r->crossing_s;
+    out["acceptable_gaps_offered"] = r->acceptable_gaps_offered;
+    out["used_acceptable_gap"] = r->used_acceptable_gap;
+    std::cout << out.dump() << "\n";
+  }
+  return true;
 }
 
 }  // namespace
@@ -126,19 +154,24 @@ int SimulateCommand::run() {
           s.policy == sim::Policy::naive ? naive_distances_m_ : std::vector<double>{0.0};
       for (double distance : distances) {
         if (s.policy == sim::Policy::naive) s.naive_distance_m = distance;
+        const std::string label =
+            s.policy == sim::Policy::naive
+                ? "naive" + std::to_string(static_cast<int>(std::lround(distance)))
+                : name;
+        if (per_run_) {
+          if (!print_runs(s, label, volume, runs_, seed_)) return 1;
+          continue;
+        }
         const Result<sim::Aggregate> a = sim::simulate(s, runs_, seed_);
         if (!a.ok()) {
           std::cerr << "roadcross: " << a.status.message << "\n";
           return 1;
         }
-        const std::string label =
-            s.policy == sim::Policy::naive
-                ? "naive" + std::to_string(static_cast<int>(std::lround(distance)))
-                : name;
         rows.push_back({label, volume, *a});
       }
     }
   }
+  if (per_run_) return 0;
   if (json_) {
     nlohmann::ordered_json out;
     out["place"] = place;

@@ -323,6 +323,11 @@ Result<RunMetrics> simulate_run(const Scenario& scenario, std::uint64_t seed) no
   }
 }
 
+std::uint64_t run_seed(std::uint64_t seed, int index) noexcept {
+  std::uint64_t x = seed ^ (0xD1B54A32D192ED03ULL * static_cast<std::uint64_t>(index + 1));
+  return Random::splitmix(x);
+}
+
 Result<Aggregate> simulate(const Scenario& scenario, int runs, std::uint64_t seed) noexcept {
   if (runs < 1) return {Status{StatusCode::invalid_argument, "simulate: runs must be >= 1"}, {}};
   Aggregate a;
@@ -332,8 +337,7 @@ Result<Aggregate> simulate(const Scenario& scenario, int runs, std::uint64_t see
   try {
     waits.reserve(static_cast<std::size_t>(runs));
     for (int i = 0; i < runs; ++i) {
-      std::uint64_t run_seed = seed ^ (0xD1B54A32D192ED03ULL * static_cast<std::uint64_t>(i + 1));
-      const Result<RunMetrics> r = simulate_run(scenario, Random::splitmix(run_seed));
+      const Result<RunMetrics> r = simulate_run(scenario, run_seed(seed, i));
       if (!r.ok()) return {r.status, {}};
       ++a.runs;
       a.crossed += r->crossed;

@@ -79,6 +79,20 @@ rows = {r["policy"]: r for r in d["rows"]}
 assert set(rows) == {"ours", "naive30"}, rows
 assert rows["ours"]["runs"] == 20 and rows["ours"]["collisions"] == 0, rows["ours"]
 PY
+# --per-run: one line per run, with the summary's seeds: the per-run counts add up to it.
+"$ROADCROSS" "${sim[@]}" --seed 5 --per-run >"$WORK/runs.jsonl"
+python3 - "$WORK/s1.json" "$WORK/runs.jsonl" <<'PY' && pass "simulate --per-run adds up to the summary" || fail "per-run"
+import json, sys
+summary = {r["policy"]: r for r in json.load(open(sys.argv[1]))["rows"]}
+runs = [json.loads(line) for line in open(sys.argv[2])]
+assert len(runs) == 40, len(runs)
+for policy, row in summary.items():
+    mine = [r for r in runs if r["policy"] == policy]
+    assert len(mine) == 20, policy
+    for key, field in (("collisions", "collision"), ("conflicts", "conflict"), ("crossed", "crossed")):
+        assert sum(r[field] for r in mine) == row[key], (policy, key)
+    assert abs(sum(r["waiting_s"] for r in mine) / 20 - row["mean_wait_s"]) < 1e-9, policy
+PY
 "$ROADCROSS" simulate --lanes 1 --width 3.5 --runs 3 --volume 0 --policy ours | grep -q "^ours" &&
   pass "simulate: synthetic road, table" || fail "simulate: table"
 expect_failure "simulate: --db without a place" "needs a place" -- "$ROADCROSS" simulate --db "$WORK/map.gpkg"

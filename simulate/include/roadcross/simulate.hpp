@@ -88,7 +88,10 @@ struct Aggregate {
 /// One run; `seed` fixes everything random in it.
 Result<RunMetrics> simulate_run(const Scenario& scenario, std::uint64_t seed) noexcept;
 
-/// `runs` runs with seeds derived from `seed`, aggregated.
+/// The seed of run `index` (0-based) of simulate(scenario, runs, seed).
+std::uint64_t run_seed(std::uint64_t seed, int index) noexcept;
+
+/// `runs` runs with seeds run_seed(seed, 0 .. runs - 1), aggregated.
 Result<Aggregate> simulate(const Scenario& scenario, int runs, std::uint64_t seed) noexcept;
 
 }  // namespace roadcross::sim
