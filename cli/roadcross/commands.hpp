@@ -6,6 +6,8 @@
 #include <string>
 
 #include "position_options.hpp"
+#include "roadcross/gap.hpp"
+#include "roadcross/simulate.hpp"
 
 namespace roadcross::cli {
 
@@ -95,6 +97,44 @@ class BatchCommand : public Command {
 
  private:
   std::string db_path_;
+};
+
+/// roadcross gap: GO or WAIT for tracked vehicles read from stdin (one JSON object per line).
+class GapCommand : public Command {
+ public:
+  explicit GapCommand(CLI::App& parent);
+  int run() override;
+
+ private:
+  QueryOptions query_;
+  RobotMotion robot_;
+  GapOptions options_;
+  HcmOptions hcm_;
+  std::string policy_ = "ours";
+};
+
+/// roadcross simulate: traffic, a robot running a policy, and safety/efficiency metrics.
+class SimulateCommand : public Command {
+ public:
+  explicit SimulateCommand(CLI::App& parent);
+  int run() override;
+
+ private:
+  std::string db_path_;
+  std::vector<double> utm_;
+  std::optional<double> lat_deg_, lon_deg_;
+  std::optional<double> width_m_, maxspeed_kmh_, sight_m_;
+  std::optional<int> lanes_;
+  double sensor_range_m_ = 200.0;
+  std::vector<std::string> policies_{"ours", "hcm", "naive"};
+  std::vector<double> volumes_{300.0};
+  std::vector<double> naive_distances_m_{50.0};
+  int runs_ = 1000;
+  std::uint64_t seed_ = 1;
+  std::string label_;
+  bool json_ = false;
+  bool per_run_ = false;
+  sim::Scenario scenario_;
 };
 
 }  // namespace roadcross::cli

@@ -18,6 +18,8 @@ int main(int argc, char** argv) {
       "  roadcross nearest --db prague.gpkg --lat 50.0755 --lon 14.4186\n"
       "  roadcross heading --db prague.gpkg --utm 458803 5546712 --json\n"
       "  roadcross assess --db prague.gpkg --lat 50.075769 --lon 14.416015\n"
+      "  roadcross gap --db prague.gpkg --utm 458803 5546712 < vehicles.jsonl\n"
+      "  roadcross simulate --lanes 2 --width 7 --maxspeed 50 --volume 150,300,600\n"
 #ifdef ROADCROSS_WITH_VIZ
       "  roadcross render --db prague.gpkg -o prague.png\n"
       "  roadcross view --db prague.gpkg -o prague-view\n"
@@ -34,6 +36,8 @@ int main(int argc, char** argv) {
   commands.push_back(std::make_unique<roadcross::cli::BetterCommand>(app));
   commands.push_back(std::make_unique<roadcross::cli::MonitorCommand>(app));
   commands.push_back(std::make_unique<roadcross::cli::BatchCommand>(app));
+  commands.push_back(std::make_unique<roadcross::cli::GapCommand>(app));
+  commands.push_back(std::make_unique<roadcross::cli::SimulateCommand>(app));
 #ifdef ROADCROSS_WITH_VIZ
   commands.push_back(std::make_unique<roadcross::cli::RenderCommand>(app));
   commands.push_back(std::make_unique<roadcross::cli::ExportCommand>(app));
