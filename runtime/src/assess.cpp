@@ -45,6 +45,8 @@ Thresholds thresholds_from(const MapInfo& info) {
     if (end == value.c_str()) continue;
     if (key == "param.suitability.valid_distance_m") t.valid_distance_m = number;
     if (key == "param.suitability.threshold") t.threshold = number;
+    if (key == "param.sight.limited_visibility_unsuitable")
+      t.limited_visibility_unsuitable = number != 0.0;
   }
   return t;
 }
@@ -151,12 +153,16 @@ Result<Assessment> Map::assess(const Position& position, const AssessOptions& op
       a.reasons.emplace_back("NO_ELEVATION");
     const int total = a.score.value_or(0) + a.context_score.value_or(0);
     const bool forbidden = has(a.reasons, "NOT_CROSSABLE_CLASS") || a.tunnel || no_crossing;
+    const bool hidden =
+        impl.thresholds.limited_visibility_unsuitable && has(a.reasons, "LIMITED_VISIBILITY");
     const bool good_enough = a.score.has_value() && total >= a.threshold;
     if (!good_enough && !force_suitable) a.reasons.emplace_back("LOW_SCORE");
     if ((no_crossing || force_suitable) && !has(a.reasons, "OVERRIDE"))
       a.reasons.emplace_back("OVERRIDE");
-    // An operator's force_suitable overrides the score, never the class, a tunnel or validity.
-    a.suitable = a.valid && !forbidden && (good_enough || force_suitable);
+    // An operator's force_suitable overrides the score and the computed sight distance (the
+    // operator may know of a mirror, or of a hedge cut back), never the class, a tunnel or
+    // validity.
+    a.suitable = a.valid && !forbidden && ((good_enough && !hidden) || force_suitable);
     return result;
   } catch (const std::exception& e) {
     impl.queries.candidates.reset();

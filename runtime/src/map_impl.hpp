@@ -36,6 +36,9 @@ struct Queries {
 struct Thresholds {
   double valid_distance_m = 10.0;
   double threshold = 20.0;
+  /// LIMITED_VISIBILITY forbids crossing (the build's sight.limited_visibility_unsuitable); in
+  /// cost mode the build has already added its penalty to the rank.
+  bool limited_visibility_unsuitable = true;
 };
 
 Thresholds thresholds_from(const MapInfo& info);
