@@ -13,6 +13,7 @@
 #include "roadcross/preprocess/road_network.hpp"
 #include "roadcross/preprocess/segments.hpp"
 #include "roadcross/preprocess/sight.hpp"
+#include "roadcross/runtime.hpp"
 #include "roadcross/schema/sqlite.hpp"
 
 namespace rp = roadcross::preprocess;
@@ -280,6 +281,33 @@ TEST(SightBuild, BuildingsFromOsmReachTheDatabase) {
   EXPECT_NEAR(q.column_double(2), 43.5, 0.2);
   EXPECT_GT(q.column_double(3), 43.5);
   EXPECT_THAT(q.column_text(4), ::testing::HasSubstr("LIMITED_VISIBILITY"));
+  q.reset();
+
+  // The runtime: by default LIMITED_VISIBILITY makes the place unsuitable whatever its score;
+  // 150 m back along the straight leg (sight 300 m both ways) the same road is suitable.
+  const auto assess = [&](const std::string& path, double x) {
+    auto map = roadcross::Map::open(path);
+    EXPECT_TRUE(map.ok()) << map.status.message;
+    auto a = map.value->assess(roadcross::Position::utm(kE0 + x, kN0 - 3.0));
+    EXPECT_TRUE(a.ok()) << a.status.message;
+    return *a.value;
+  };
+  const roadcross::Assessment near_corner = assess(options.output_path, -30.0);
+  EXPECT_FALSE(near_corner.suitable);
+  // ... and for that reason alone: its score and context are good enough.
+  EXPECT_THAT(near_corner.reasons, ::testing::Not(::testing::Contains("LOW_SCORE")));
+  EXPECT_THAT(near_corner.reasons, ::testing::Contains("LIMITED_VISIBILITY"));
+  EXPECT_TRUE(assess(options.output_path, -150.0).suitable);
+
+  // Cost mode: only a rank penalty (4), so the score drops by 4 and the runtime judges the
+  // score alone.
+  options.parameters.sight.limited_visibility_unsuitable = 0.0;
+  options.output_path = dir.file("cost.gpkg");
+  rp::run_build(options);
+  const roadcross::Assessment cost = assess(options.output_path, -30.0);
+  EXPECT_THAT(cost.reasons, ::testing::Contains("LIMITED_VISIBILITY"));
+  EXPECT_EQ(*cost.score, *near_corner.score - 4);
+  EXPECT_EQ(cost.suitable, *cost.score + cost.context_score.value_or(0) >= 20);
 
   // The stage switched off: the columns are NULL and no segment is limited.
   options.parameters.sight.enabled = 0.0;
