@@ -52,7 +52,10 @@ namespace bg = boost::geometry;
 namespace bgi = boost::geometry::index;
 using BPoint = bg::model::point<double, 2, bg::cs::cartesian>;
 using BSegment = bg::model::segment<BPoint>;
-using EdgeValue = std::pair<BSegment, std::uint32_t>;
+using BBox = bg::model::box<BPoint>;
+/// Edges are indexed by their boxes: the exact crossing test is crossing_parameter(), cheaper
+/// than Boost's robust segment-segment predicate.
+using EdgeValue = std::pair<BBox, std::uint32_t>;
 using EdgeTree = bgi::rtree<EdgeValue, bgi::rstar<16>>;
 
 struct Point3 {
@@ -221,9 +224,10 @@ class Scene {
     std::vector<EdgeValue> values;
     values.reserve(edges.size());
     for (std::size_t i = 0; i < edges.size(); ++i) {
-      values.push_back(
-          {BSegment(BPoint(edges[i].a.x, edges[i].a.y), BPoint(edges[i].b.x, edges[i].b.y)),
-           static_cast<std::uint32_t>(i)});
+      const ObstacleEdge& e = edges[i];
+      values.push_back({BBox(BPoint(std::min(e.a.x, e.b.x), std::min(e.a.y, e.b.y)),
+                             BPoint(std::max(e.a.x, e.b.x), std::max(e.a.y, e.b.y))),
+                        static_cast<std::uint32_t>(i)});
     }
     tree_ = EdgeTree(values.begin(), values.end());  // packed (STR) bulk load
   }
@@ -254,19 +258,28 @@ class Scene {
     return false;
   }
 
-  /// The line passes through the opaque band of an obstacle edge it crosses in plan.
+  /// The line passes through the opaque band of an obstacle edge it crosses in plan. Most
+  /// lines are clear, so the whole query runs (the callback query is much faster than Boost's
+  /// incremental query iterator that an early exit would need).
   bool obstacle_blocks(const Point3& eye, const Point3& target) const {
     const BSegment line(BPoint(eye.x, eye.y), BPoint(target.x, target.y));
-    for (auto it = tree_.qbegin(bgi::intersects(line)); it != tree_.qend(); ++it) {
-      const ObstacleEdge& edge = edges_[it->second];
-      const double t = crossing_parameter(eye, target, edge.a, edge.b);
-      if (std::isnan(t)) continue;
-      const double z = eye.z + t * (target.z - eye.z);
-      const PlanePoint p{eye.x + t * (target.x - eye.x), eye.y + t * (target.y - eye.y)};
-      const double base = ground(p, eye.ground_m + t * (target.ground_m - eye.ground_m));
-      if (z >= base + edge.bottom_m && z <= base + edge.top_m) return true;
-    }
-    return false;
+    bool blocked = false;
+    const auto blocks = [&](const EdgeValue& value) {
+      if (!blocked) blocked = edge_blocks(edges_[value.second], eye, target);
+      return false;  // nothing is collected
+    };
+    EdgeValue* none = nullptr;
+    tree_.query(bgi::intersects(line) && bgi::satisfies(blocks), none);
+    return blocked;
+  }
+
+  bool edge_blocks(const ObstacleEdge& edge, const Point3& eye, const Point3& target) const {
+    const double t = crossing_parameter(eye, target, edge.a, edge.b);
+    if (std::isnan(t)) return false;
+    const double z = eye.z + t * (target.z - eye.z);
+    const PlanePoint p{eye.x + t * (target.x - eye.x), eye.y + t * (target.y - eye.y)};
+    const double base = ground(p, eye.ground_m + t * (target.ground_m - eye.ground_m));
+    return z >= base + edge.bottom_m && z <= base + edge.top_m;
   }
 
   const Grid* terrain_;
