@@ -109,20 +109,26 @@ struct Located {
 
 class NodeCollector : public osmium::handler::Handler {
  public:
+  /// Keeps the wanted nodes inside [min, max] (UTM).
   NodeCollector(const std::vector<std::int64_t>& wanted, const geo::UtmZone& zone,
-                std::vector<Located>& out)
-      : wanted_(wanted), zone_(zone), out_(out) {}
+                const PlanePoint& min, const PlanePoint& max, std::vector<Located>& out)
+      : wanted_(wanted), zone_(zone), min_(min), max_(max), out_(out) {}
   void node(const osmium::Node& node) {
     if (!std::binary_search(wanted_.begin(), wanted_.end(), node.id())) return;
     const osmium::Location l = node.location();
     if (!l.valid()) return;
     const geo::UtmPoint p = geo::wgs84_to_utm(l.lat(), l.lon(), zone_);
+    if (p.easting_m < min_.x || p.easting_m > max_.x || p.northing_m < min_.y ||
+        p.northing_m > max_.y) {
+      return;
+    }
     out_.push_back({node.id(), {p.easting_m, p.northing_m}});
   }
 
  private:
   const std::vector<std::int64_t>& wanted_;
   const geo::UtmZone& zone_;
+  PlanePoint min_, max_;
   std::vector<Located>& out_;
 };
 
@@ -155,7 +161,12 @@ Obstacles read_obstacles(const std::string& osm_path, const geo::UtmZone& zone,
     for (const ObstacleWay& w : ways) wanted.insert(wanted.end(), w.refs.begin(), w.refs.end());
     std::sort(wanted.begin(), wanted.end());
     wanted.erase(std::unique(wanted.begin(), wanted.end()), wanted.end());
-    NodeCollector node_collector(wanted, zone, nodes);
+    // Nodes far from the roads are not kept (a country's buildings would not fit); the margin
+    // keeps both ends of long edges (a wall, a large hall) that reach the sight lines' area.
+    constexpr double kLongEdgeM = 1000.0;
+    const double node_reach_m = reach_m + kLongEdgeM;
+    NodeCollector node_collector(wanted, zone, {min.x - node_reach_m, min.y - node_reach_m},
+                                 {max.x + node_reach_m, max.y + node_reach_m}, nodes);
     read_pass(osm_path, osmium::osm_entity_bits::node, node_collector, progress);
   } catch (const std::exception& e) {
     throw InputError(osm_path, std::string("not readable as OSM data: ") + e.what());

@@ -68,7 +68,9 @@ double parse_height_m(std::string_view text) noexcept;
 
 /// Reads building footprints (closed ways with building=*, except roof and no) and
 /// barrier=wall/fence ways from the OSM file in two passes of its own (ways, then the nodes
-/// they use), keeping only edges that come within `reach_m` of the box [min, max] (UTM).
+/// they use), keeping only edges that come within `reach_m` of the box [min, max] (UTM). Node
+/// locations are kept only within 1 km beyond that; the ways' node references are held for the
+/// whole file (8 bytes each: about 50 bytes a building).
 Obstacles read_obstacles(const std::string& osm_path, const geo::UtmZone& zone,
                          const PlanePoint& min, const PlanePoint& max, double reach_m,
                          const SightParameters& parameters, Progress& progress);
