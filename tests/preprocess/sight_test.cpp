@@ -27,22 +27,35 @@ const geo::UtmZone kZone{33, true};
 // On zone 33's central meridian, where grid north is true north.
 constexpr double kE0 = 500000.0, kN0 = 5540000.0;
 
-/// A graph of one residential way through `points` (UTM offsets from (kE0, kN0)), cut into
-/// segments of at most `segment_m`.
-rp::RoadGraph graph_of(const std::vector<PlanePoint>& offsets, double segment_m) {
+/// A graph of residential ways through points given as UTM offsets from (kE0, kN0); equal
+/// points are one node (where ways meet). Cut into segments of at most `segment_m`.
+rp::RoadGraph graph_of_ways(const std::vector<std::vector<PlanePoint>>& ways, double segment_m) {
   rp::RoadNetwork network;
-  rp::RoadWay way;
-  way.osm_id = 1;
-  way.highway = "residential";
-  way.tags = {{"highway", "residential"}};
-  for (std::size_t i = 0; i < offsets.size(); ++i) {
-    const geo::LatLon ll = geo::utm_to_wgs84(kE0 + offsets[i].x, kN0 + offsets[i].y, kZone);
-    const auto id = static_cast<std::int64_t>(i + 1);
+  std::vector<PlanePoint> nodes;
+  const auto node_id = [&](const PlanePoint& q) {
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+      if (nodes[i].x == q.x && nodes[i].y == q.y) return static_cast<std::int64_t>(i + 1);
+    }
+    nodes.push_back(q);
+    const geo::LatLon ll = geo::utm_to_wgs84(kE0 + q.x, kN0 + q.y, kZone);
+    const auto id = static_cast<std::int64_t>(nodes.size());
     network.locations.push_back({id, ll.lat_deg, ll.lon_deg});
-    way.node_ids.push_back(id);
+    return id;
+  };
+  for (std::size_t w = 0; w < ways.size(); ++w) {
+    rp::RoadWay way;
+    way.osm_id = static_cast<std::int64_t>(w + 1);
+    way.highway = "residential";
+    way.tags = {{"highway", "residential"}};
+    for (const PlanePoint& q : ways[w]) way.node_ids.push_back(node_id(q));
+    network.ways.push_back(way);
   }
-  network.ways.push_back(way);
   return rp::build_road_graph(network, kZone, segment_m);
+}
+
+/// One way through `offsets`.
+rp::RoadGraph graph_of(const std::vector<PlanePoint>& offsets, double segment_m) {
+  return graph_of_ways({offsets}, segment_m);
 }
 
 /// The segment whose midpoint is nearest to the offset (x, y).
@@ -144,6 +157,25 @@ TEST(Sight, LShapedRoadWithABuildingInTheCorner) {
   rp::RoadGraph open = graph_of({{-200, 0}, {0, 0}, {0, 200}}, 20.0);
   rp::compute_sight(open, nullptr, {}, p);
   EXPECT_FLOAT_EQ(*segment_at(open, -30, 0).sight_forward_m, 300.0f);
+}
+
+TEST(Sight, FollowsTheStraightestContinuationThroughAJunction) {
+  // Three ways meet at (0, 0): west (-200, 0)-(0, 0), east (0, 0)-(300, 10) (a 1.9 degree
+  // turn) and north (0, 0)-(0, 300) (90 degrees). Looking east from the segment at x = -30, the
+  // walk goes on east. A 3 m wall across the east road at x = 100 ends the view at 130 m; the
+  // same wall across the north road (at y = 100) hides nothing on the way the walk takes.
+  const std::vector<std::vector<PlanePoint>> ways = {
+      {{-200, 0}, {0, 0}}, {{0, 0}, {300, 10}}, {{0, 0}, {0, 300}}};
+  const rp::SightParameters p;
+  rp::RoadGraph east = graph_of_ways(ways, 20.0);
+  rp::compute_sight(east, nullptr, {edge(100, -20, 100, 30, 3.0)}, p);
+  const rp::Segment& s = segment_at(east, -30, 0);
+  // The wall cuts the east road at x = 100, 100 * 10/300 = 3.3 m north of the axis: along the
+  // road 30 + sqrt(100^2 + 3.33^2) = 130.06 m.
+  EXPECT_NEAR(*s.sight_forward_m, 30.0 + std::hypot(100.0, 100.0 / 30.0), 0.1);
+  rp::RoadGraph north = graph_of_ways(ways, 20.0);
+  rp::compute_sight(north, nullptr, {edge(-20, 100, 20, 100, 3.0)}, p);
+  EXPECT_FLOAT_EQ(*segment_at(north, -30, 0).sight_forward_m, 300.0f);
 }
 
 namespace {
