@@ -16,16 +16,21 @@ constexpr const char* kAssessColumns =
     "curvature_level, curvature_cost, elevation_cost, "
     "landform, maxspeed_kmh, lanes, width_m, context_score, crossing_distance_m, rank, score, "
     "reasons, tunnel, override_note, override_no_crossing, override_force_suitable";
+// Schema version 2 added these; a version 1 DB reads NULLs in their place.
+constexpr const char* kSightColumns =
+    ", sight_forward_m, sight_backward_m, sight_min_m, required_sight_m";
+constexpr const char* kNoSightColumns = ", NULL, NULL, NULL, NULL";
 }  // namespace
 
-Queries::Queries(sqlite::Database& db)
+Queries::Queries(sqlite::Database& db, bool has_sight)
     : candidates(db.prepare("SELECT s.fid, s.geom FROM " + std::string(schema::kSegmentsRtree) +
                             " r JOIN " + std::string(schema::kSegmentsTable) +
                             " s ON s.fid = r.id WHERE r.maxx >= ?1 AND r.minx <= ?2 AND "
                             "r.maxy >= ?3 AND r.miny <= ?4")),
       attributes(db.prepare("SELECT osm_way_id, highway, name, length_m FROM " +
                             std::string(schema::kSegmentsTable) + " WHERE fid = ?1")),
-      assessment(db.prepare(std::string("SELECT ") + kAssessColumns + " FROM " +
+      assessment(db.prepare(std::string("SELECT ") + kAssessColumns +
+                            (has_sight ? kSightColumns : kNoSightColumns) + " FROM " +
                             std::string(schema::kSegmentsTable) + " WHERE fid = ?1")),
       rtree_holder(
           db.prepare("SELECT id FROM " + std::string(schema::kSegmentsRtree) + " LIMIT 1")),
@@ -145,6 +150,10 @@ Result<Assessment> Map::assess(const Position& position, const AssessOptions& op
     a.override_note = row.column_text_view(20);
     const bool no_crossing = row.column_int64(21) != 0;
     const bool force_suitable = row.column_int64(22) != 0;
+    a.sight_forward_m = optional_double(row, 23);
+    a.sight_backward_m = optional_double(row, 24);
+    a.sight_min_m = optional_double(row, 25);
+    a.required_sight_m = optional_double(row, 26);
     row.reset();
 
     a.valid = a.road.distance_m <= a.valid_distance_m;

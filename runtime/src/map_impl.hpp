@@ -29,7 +29,8 @@ struct Queries {
   /// segment's end vertex).
   sqlite::Statement segments_at;
 
-  explicit Queries(sqlite::Database& db);
+  /// `has_sight`: the DB has the sight columns (schema version >= 2); older ones read NULLs.
+  Queries(sqlite::Database& db, bool has_sight);
 };
 
 /// Suitability thresholds as recorded by the build (param.suitability.*), else DESIGN.md's.
@@ -56,7 +57,7 @@ struct Map::Impl {
   Impl(sqlite::Database&& database, MapInfo&& map_info)
       : db(std::move(database)),
         info(std::move(map_info)),
-        queries(db),
+        queries(db, info.schema_version >= 2),
         thresholds(detail::thresholds_from(info)) {}
 
   /// The position in the map's UTM zone, or invalid_argument.

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <functional>
 
 #include "osm_fixture.hpp"
@@ -330,6 +331,26 @@ TEST(SightBuild, BuildingsFromOsmReachTheDatabase) {
   EXPECT_THAT(near_corner.reasons, ::testing::Not(::testing::Contains("LOW_SCORE")));
   EXPECT_THAT(near_corner.reasons, ::testing::Contains("LIMITED_VISIBILITY"));
   EXPECT_TRUE(assess(options.output_path, -150.0).suitable);
+  ASSERT_TRUE(near_corner.sight_min_m && near_corner.required_sight_m);
+  EXPECT_NEAR(*near_corner.sight_forward_m, 43.5, 0.2);
+  EXPECT_NEAR(*near_corner.sight_min_m, 43.5, 0.2);
+  EXPECT_DOUBLE_EQ(*near_corner.sight_backward_m, 300.0);
+  EXPECT_GT(*near_corner.required_sight_m, 43.5);
+
+  // A schema version 1 DB (no sight columns) is still read: the sight is simply unknown.
+  const std::string v1 = dir.file("v1.gpkg");
+  ASSERT_EQ(std::system(("cp '" + options.output_path + "' '" + v1 + "'").c_str()), 0);
+  {
+    roadcross::sqlite::Database w(v1, SQLITE_OPEN_READWRITE);
+    for (const char* column :
+         {"sight_forward_m", "sight_backward_m", "sight_min_m", "required_sight_m"}) {
+      w.exec(std::string("ALTER TABLE segments DROP COLUMN ") + column);
+    }
+    w.exec("UPDATE roadcross_metadata SET value = '1' WHERE key = 'schema_version'");
+  }
+  const roadcross::Assessment old = assess(v1, -30.0);
+  EXPECT_FALSE(old.sight_min_m.has_value());
+  EXPECT_EQ(old.score, near_corner.score);
 
   // Cost mode: only a rank penalty (4), so the score drops by 4 and the runtime judges the
   // score alone.
