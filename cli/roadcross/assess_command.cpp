@@ -65,6 +65,10 @@ int AssessCommand::run() {
   std::printf("traffic     maxspeed %s km/h, %s lanes, %s m wide\n",
               number_or_dash(a.maxspeed_kmh, "%.0f").c_str(), int_or_dash(a.lanes).c_str(),
               number_or_dash(a.width_m, "%.1f").c_str());
+  std::printf("sight       %s m forward, %s m backward, needs %s m\n",
+              number_or_dash(a.sight_forward_m, "%.0f").c_str(),
+              number_or_dash(a.sight_backward_m, "%.0f").c_str(),
+              number_or_dash(a.required_sight_m, "%.0f").c_str());
   for (const std::string& code : a.reasons) {
     std::printf("  %-20s %s\n", code.c_str(), describe_reason(code));
   }

@@ -59,6 +59,10 @@ nlohmann::ordered_json assessment_json(const Assessment& a) {
   out["lanes"] = or_null(a.lanes);
   out["width_m"] = or_null(a.width_m);
   out["crossing_distance_m"] = or_null(a.crossing_distance_m);
+  out["sight_forward_m"] = or_null(a.sight_forward_m);
+  out["sight_backward_m"] = or_null(a.sight_backward_m);
+  out["sight_min_m"] = or_null(a.sight_min_m);
+  out["required_sight_m"] = or_null(a.required_sight_m);
   out["tunnel"] = a.tunnel;
   out["override_note"] = a.override_note;
   out["reasons"] = a.reasons;

@@ -2,6 +2,7 @@
 
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <ctime>
@@ -17,6 +18,7 @@
 #include "roadcross/preprocess/road_network.hpp"
 #include "roadcross/preprocess/segments.hpp"
 #include "roadcross/preprocess/sha256.hpp"
+#include "roadcross/preprocess/sight.hpp"
 #include "roadcross/preprocess/terrain.hpp"
 #include "roadcross/preprocess/terrain_coverage.hpp"
 #include "roadcross/schema/schema.hpp"
@@ -37,6 +39,40 @@ std::string iso8601_utc(std::int64_t seconds_since_epoch) {
 std::string base_name(const std::string& path) {
   const auto slash = path.find_last_of('/');
   return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+/// Buildings and walls from the OSM file, then the sight distance of every segment over the
+/// stored terrain grid. The grid covers the roads' box plus the largest TPI radius, and every
+/// sight line joins two points within half a road width of that box: the whole line is on it.
+std::vector<std::string> run_sight_stage(const BuildOptions& options, RoadGraph& graph,
+                                         const Grid* terrain, Progress& progress) {
+  const SightParameters& p = options.parameters.sight;
+  PlanePoint min{1e300, 1e300}, max{-1e300, -1e300};
+  for (const Segment& s : graph.segments) {
+    for (const PlanePoint& q : s.points) {
+      min = {std::min(min.x, q.x), std::min(min.y, q.y)};
+      max = {std::max(max.x, q.x), std::max(max.y, q.y)};
+    }
+  }
+  constexpr double kReachM = 100.0;  // well beyond half of any carriageway's width
+  const Obstacles obstacles =
+      read_obstacles(options.osm_path, graph.zone, min, max, kReachM, p, progress);
+  progress.start_stage("sight distance");
+  const SightReport report = compute_sight(graph, terrain, obstacles.edges, p);
+  progress.finish_stage(std::to_string(report.segments) + " segments, " +
+                        std::to_string(report.limited) + " LIMITED_VISIBILITY, " +
+                        std::to_string(report.lines_of_sight) + " lines of sight");
+  std::vector<std::string> notes;
+  notes.push_back("sight distance: " + std::to_string(report.limited) + " of " +
+                  std::to_string(report.segments) + " segments LIMITED_VISIBILITY (" +
+                  std::to_string(report.skipped_tunnels) + " tunnel segments not computed)");
+  notes.push_back("sight obstacles: " + std::to_string(obstacles.report.buildings) +
+                  " buildings, " + std::to_string(obstacles.report.walls) + " walls, " +
+                  std::to_string(obstacles.report.fences) + " fences (" +
+                  std::to_string(obstacles.report.default_height) + " with a default height, " +
+                  std::to_string(obstacles.report.relations_skipped) +
+                  " multipolygon buildings not read)");
+  return notes;
 }
 
 }  // namespace
@@ -92,7 +128,13 @@ BuildSummary run_build(const BuildOptions& options) {
   const ContextReport context =
       compute_context(graph, network, options.parameters.context, options.country, overrides);
   progress.finish_stage(std::to_string(context.crossings.size()) + " crossings");
+  std::vector<std::string> sight_notes;
+  if (options.parameters.sight.enabled != 0.0) {
+    sight_notes =
+        run_sight_stage(options, graph, has_elevation ? &terrain_grid : nullptr, progress);
+  }
   compute_ranks(graph, options.parameters.rank);
+  apply_sight_rank_penalty(graph, options.parameters.sight);
 
   DatabaseContents contents;
   contents.graph = &graph;
@@ -155,6 +197,7 @@ BuildSummary run_build(const BuildOptions& options) {
   summary.missing_node_refs = graph.dropped_node_refs;
   summary.crossings = context.crossings.size();
   summary.notes = context.summary_lines();
+  summary.notes.insert(summary.notes.end(), sight_notes.begin(), sight_notes.end());
   summary.has_elevation = has_elevation;
   summary.terrain = terrain;
   if (has_elevation) {

@@ -117,6 +117,10 @@ void bind_segment(sqlite::Statement& insert, const Segment& s, std::int32_t srs_
   bind_maybe(insert, i++, s.rank);
   bind_maybe(insert, i++, s.score);
   insert.bind(i++, s.reasons.joined(','));
+  bind_maybe(insert, i++, s.sight_forward_m);
+  bind_maybe(insert, i++, s.sight_backward_m);
+  bind_maybe(insert, i++, s.sight_min_m);
+  bind_maybe(insert, i++, s.required_sight_m);
   // The column list lives in schema/; a field added there but not here must fail loudly.
   if (i - 1 != insert.parameter_count()) {
     throw std::logic_error("segments insert binds " + std::to_string(i - 1) + " values for " +

@@ -35,6 +35,7 @@ std::vector<ParameterSpec> Parameters::specs() {
   terrain.describe(out);
   rank.describe(out);
   context.describe(out);
+  sight.describe(out);
   suitability.describe(out);
   return out;
 }

@@ -16,16 +16,21 @@ constexpr const char* kAssessColumns =
     "curvature_level, curvature_cost, elevation_cost, "
     "landform, maxspeed_kmh, lanes, width_m, context_score, crossing_distance_m, rank, score, "
     "reasons, tunnel, override_note, override_no_crossing, override_force_suitable";
+// Schema version 2 added these; a version 1 DB reads NULLs in their place.
+constexpr const char* kSightColumns =
+    ", sight_forward_m, sight_backward_m, sight_min_m, required_sight_m";
+constexpr const char* kNoSightColumns = ", NULL, NULL, NULL, NULL";
 }  // namespace
 
-Queries::Queries(sqlite::Database& db)
+Queries::Queries(sqlite::Database& db, bool has_sight)
     : candidates(db.prepare("SELECT s.fid, s.geom FROM " + std::string(schema::kSegmentsRtree) +
                             " r JOIN " + std::string(schema::kSegmentsTable) +
                             " s ON s.fid = r.id WHERE r.maxx >= ?1 AND r.minx <= ?2 AND "
                             "r.maxy >= ?3 AND r.miny <= ?4")),
       attributes(db.prepare("SELECT osm_way_id, highway, name, length_m FROM " +
                             std::string(schema::kSegmentsTable) + " WHERE fid = ?1")),
-      assessment(db.prepare(std::string("SELECT ") + kAssessColumns + " FROM " +
+      assessment(db.prepare(std::string("SELECT ") + kAssessColumns +
+                            (has_sight ? kSightColumns : kNoSightColumns) + " FROM " +
                             std::string(schema::kSegmentsTable) + " WHERE fid = ?1")),
       rtree_holder(
           db.prepare("SELECT id FROM " + std::string(schema::kSegmentsRtree) + " LIMIT 1")),
@@ -45,6 +50,8 @@ Thresholds thresholds_from(const MapInfo& info) {
     if (end == value.c_str()) continue;
     if (key == "param.suitability.valid_distance_m") t.valid_distance_m = number;
     if (key == "param.suitability.threshold") t.threshold = number;
+    if (key == "param.sight.limited_visibility_unsuitable")
+      t.limited_visibility_unsuitable = number != 0.0;
   }
   return t;
 }
@@ -104,7 +111,7 @@ namespace {
 // statement) into `a` and applies the suitability rule. a.road.segment_id, a.road.distance_m and
 // the thresholds must be set. The one place the rule lives: assess and assess_segment both
 // judge through it, so that a map view can never disagree with assess.
-Status judge(sqlite::Statement& row, Assessment& a) {
+Status judge(sqlite::Statement& row, Assessment& a, bool limited_visibility_unsuitable) {
   row.bind(1, a.road.segment_id);
   if (!row.step()) {
     row.reset();
@@ -135,6 +142,10 @@ Status judge(sqlite::Statement& row, Assessment& a) {
   a.override_note = row.column_text_view(20);
   const bool no_crossing = row.column_int64(21) != 0;
   const bool force_suitable = row.column_int64(22) != 0;
+  a.sight_forward_m = optional_double(row, 23);
+  a.sight_backward_m = optional_double(row, 24);
+  a.sight_min_m = optional_double(row, 25);
+  a.required_sight_m = optional_double(row, 26);
   row.reset();
 
   a.valid = a.road.distance_m <= a.valid_distance_m;
@@ -142,12 +153,15 @@ Status judge(sqlite::Statement& row, Assessment& a) {
   if (!a.elevation_cost && !has(a.reasons, "NO_ELEVATION")) a.reasons.emplace_back("NO_ELEVATION");
   const int total = a.score.value_or(0) + a.context_score.value_or(0);
   const bool forbidden = has(a.reasons, "NOT_CROSSABLE_CLASS") || a.tunnel || no_crossing;
+  const bool hidden = limited_visibility_unsuitable && has(a.reasons, "LIMITED_VISIBILITY");
   const bool good_enough = a.score.has_value() && total >= a.threshold;
   if (!good_enough && !force_suitable) a.reasons.emplace_back("LOW_SCORE");
   if ((no_crossing || force_suitable) && !has(a.reasons, "OVERRIDE"))
     a.reasons.emplace_back("OVERRIDE");
-  // An operator's force_suitable overrides the score, never the class, a tunnel or validity.
-  a.suitable = a.valid && !forbidden && (good_enough || force_suitable);
+  // An operator's force_suitable overrides the score and the computed sight distance (the
+  // operator may know of a mirror, or of a hedge cut back), never the class, a tunnel or
+  // validity.
+  a.suitable = a.valid && !forbidden && ((good_enough && !hidden) || force_suitable);
   return Status{};
 }
 
@@ -166,7 +180,7 @@ Result<Assessment> Map::assess(const Position& position, const AssessOptions& op
     if (!status.ok()) return Result<Assessment>{std::move(status), std::nullopt};
     a.valid_distance_m = options.valid_distance_m.value_or(impl.thresholds.valid_distance_m);
     a.threshold = options.threshold.value_or(impl.thresholds.threshold);
-    status = judge(impl.queries.assessment, a);
+    status = judge(impl.queries.assessment, a, impl.thresholds.limited_visibility_unsuitable);
     if (status.code == StatusCode::not_found) {
       status = Status{StatusCode::corrupt_database, impl.info.path + ": segment without a row"};
     }
@@ -190,7 +204,8 @@ Result<Assessment> Map::assess_segment(std::int64_t segment_id,
     a.threshold = options.threshold.value_or(impl.thresholds.threshold);
     a.road.segment_id = segment_id;
     a.road.distance_m = 0.0;  // standing on the centreline
-    Status status = judge(impl.queries.assessment, a);
+    Status status =
+        judge(impl.queries.assessment, a, impl.thresholds.limited_visibility_unsuitable);
     if (!status.ok()) {
       status.message = impl.info.path + ": " + status.message;
       return Result<Assessment>{std::move(status), std::nullopt};

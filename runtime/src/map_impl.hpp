@@ -29,13 +29,17 @@ struct Queries {
   /// segment's end vertex).
   sqlite::Statement segments_at;
 
-  explicit Queries(sqlite::Database& db);
+  /// `has_sight`: the DB has the sight columns (schema version >= 2); older ones read NULLs.
+  Queries(sqlite::Database& db, bool has_sight);
 };
 
 /// Suitability thresholds as recorded by the build (param.suitability.*), else DESIGN.md's.
 struct Thresholds {
   double valid_distance_m = 10.0;
   double threshold = 20.0;
+  /// LIMITED_VISIBILITY forbids crossing (the build's sight.limited_visibility_unsuitable); in
+  /// cost mode the build has already added its penalty to the rank.
+  bool limited_visibility_unsuitable = true;
 };
 
 Thresholds thresholds_from(const MapInfo& info);
@@ -53,7 +57,7 @@ struct Map::Impl {
   Impl(sqlite::Database&& database, MapInfo&& map_info)
       : db(std::move(database)),
         info(std::move(map_info)),
-        queries(db),
+        queries(db, info.schema_version >= 2),
         thresholds(detail::thresholds_from(info)) {}
 
   /// The position in the map's UTM zone, or invalid_argument.

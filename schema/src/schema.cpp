@@ -53,6 +53,15 @@ const std::vector<Column>& segment_columns() {
       {"rank", "INTEGER", "0..14, higher is worse"},
       {"score", "INTEGER", "15 - rank"},
       {"reasons", "TEXT", "comma-separated reason codes"},
+      // Sight distance (schema version 2).
+      {"sight_forward_m", "REAL",
+       "sight distance along the road looking in the OSM way's direction (vehicles approaching "
+       "from ahead), from the worse kerb, metres; NULL in tunnels"},
+      {"sight_backward_m", "REAL",
+       "sight distance looking against the way's direction (same convention), metres"},
+      {"sight_min_m", "REAL", "the smaller of sight_forward_m and sight_backward_m, metres"},
+      {"required_sight_m", "REAL",
+       "distance a vehicle at the road's speed covers while the robot crosses, metres"},
   };
   return columns;
 }

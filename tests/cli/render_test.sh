@@ -25,7 +25,8 @@ read -r flat_width flat_height < <(python3 "$PIXELS" size "$WORK/flat.png")
   fail "$flat_grey grey pixels without terrain"
 
 # Midpoints of segments, in UTM, with the suitability decided here from the columns:
-# score + context >= threshold, not a motorway/trunk class, not a tunnel, no no_crossing override.
+# score + context >= threshold, not a motorway/trunk class, not a tunnel, no no_crossing override,
+# no LIMITED_VISIBILITY (the default sight.limited_visibility_unsuitable = 1) unless forced.
 ogr2ogr -f GeoJSON "$WORK/utm.geojson" "$WORK/prague.gpkg" segments
 ogr2ogr -f GeoJSON "$WORK/crossings.geojson" "$WORK/prague.gpkg" crossings
 threshold=$(sqlite3 "$WORK/prague.gpkg" "SELECT value FROM roadcross_metadata WHERE key = 'param.suitability.threshold'")
@@ -38,7 +39,9 @@ def suitable(p):
     reasons = (p['reasons'] or '').split(',')
     total = (p['score'] or 0) + (p['context_score'] or 0)
     forbidden = 'NOT_CROSSABLE_CLASS' in reasons or p['tunnel'] or p['override_no_crossing']
-    return not forbidden and (p['score'] is not None and total >= threshold or p['override_force_suitable'])
+    hidden = 'LIMITED_VISIBILITY' in reasons
+    return not forbidden and (p['score'] is not None and total >= threshold and not hidden
+                              or p['override_force_suitable'])
 def midpoint(c):
     lengths = [math.dist(a, b) for a, b in zip(c, c[1:])]
     half = sum(lengths) / 2

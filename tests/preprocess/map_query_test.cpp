@@ -10,6 +10,7 @@
 #include "osm_fixture.hpp"
 #include "roadcross/preprocess/build.hpp"
 #include "roadcross/runtime.hpp"
+#include "roadcross/schema/schema.hpp"
 #include "roadcross/schema/sqlite.hpp"
 
 namespace rp = roadcross::preprocess;
@@ -64,7 +65,7 @@ TEST_F(MapQuery, OpenReadsTheMetadata) {
   Map map = open();
   EXPECT_EQ(map.info().zone, (roadcross::geo::UtmZone{33, true}));
   EXPECT_EQ(map.info().epsg, 32633);
-  EXPECT_EQ(map.info().schema_version, 1);
+  EXPECT_EQ(map.info().schema_version, roadcross::schema::kSchemaVersion);
   EXPECT_GT(map.info().segment_count, 15);
   EXPECT_NEAR(map.info().min_easting_m, kAx, 1e-6);
 }

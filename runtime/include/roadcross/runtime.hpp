@@ -133,6 +133,9 @@ struct Assessment {
   std::optional<int> lanes;
   std::optional<std::string> landform;
   std::optional<int> rank, score, context_score;
+  /// Sight distances along the road (forward: in the OSM way's direction) and the distance a
+  /// crossing needs, metres; empty in tunnels and in DBs older than schema version 2.
+  std::optional<double> sight_forward_m, sight_backward_m, sight_min_m, required_sight_m;
   bool tunnel = false;
   std::string override_note;  ///< the operator's note when an override applies
   /// Reason codes: the segment's (NEAR_JUNCTION, SHARP_BEND, BUSY_ROAD, NOT_CROSSABLE_CLASS,

@@ -12,6 +12,7 @@
 #include "roadcross/preprocess/geometry_cost.hpp"
 #include "roadcross/preprocess/parameter_spec.hpp"
 #include "roadcross/preprocess/rank.hpp"
+#include "roadcross/preprocess/sight.hpp"
 #include "roadcross/preprocess/terrain.hpp"
 
 namespace roadcross::preprocess {
@@ -36,6 +37,7 @@ struct Parameters {
   TerrainParameters terrain;
   RankParameters rank;
   ContextParameters context;
+  SightParameters sight;
   SuitabilityParameters suitability;
 
   /// All parameters, pointing into this object. Order is stable (it is the file order).

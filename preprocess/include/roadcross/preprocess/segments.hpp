@@ -66,6 +66,8 @@ struct Segment {
   MaybeFloat crossing_distance_m;
   const std::string* context_defaulted = nullptr;  ///< interned in RoadGraph::text, or none
   const std::string* override_note = nullptr;      ///< interned in RoadGraph::text, or none
+  // Sight distance (forward / backward: looking along / against the way's direction).
+  MaybeFloat sight_forward_m, sight_backward_m, sight_min_m, required_sight_m;
   // Result.
   MaybeInt rank, score;
   ReasonSet reasons;

@@ -12,7 +12,9 @@ namespace roadcross::schema {
 /// Version of the roadcross tables inside the GeoPackage. Bump on any change a reader must know
 /// about (a column added, renamed or whose meaning changed). Readers accept exactly the versions
 /// in [kOldestReadableVersion, kSchemaVersion].
-inline constexpr int kSchemaVersion = 1;
+/// 2 (issue 11): the sight distance columns. Version 1 DBs stay readable: the runtime reads
+/// no sight column, and a version 1 DB simply never carries LIMITED_VISIBILITY.
+inline constexpr int kSchemaVersion = 2;
 inline constexpr int kOldestReadableVersion = 1;
 
 /// GeoPackage fixes these two SQLite header fields (spec 1.3: 'GPKG' and 10300).

@@ -1,0 +1,96 @@
+// Sight distance (issue 11): how far along the road a robot standing at the kerb of a segment
+// sees an approaching vehicle, in both directions, with the line of sight blocked by the
+// terrain, by buildings (opaque prisms) and by walls and fences; and the sight distance a
+// crossing needs at the road's speed. Fills sight_forward_m, sight_backward_m, sight_min_m,
+// required_sight_m and the reason LIMITED_VISIBILITY. docs/cost-model.md "Sight distance"
+// explains the method, its rule for following the road through junctions and what it ignores.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "roadcross/geo.hpp"
+#include "roadcross/preprocess/parameter_spec.hpp"
+#include "roadcross/preprocess/segments.hpp"
+#include "roadcross/preprocess/terrain_grid.hpp"
+
+namespace roadcross::preprocess {
+
+class Progress;
+
+struct SightParameters {
+  double enabled = 1.0;             ///< 0: the stage is skipped (sight columns NULL)
+  double sensor_height_m = 0.6;     ///< robot's sensor above the ground at the kerb
+  double object_height_m = 1.1;     ///< lowest part of a vehicle that must be seen
+  double range_m = 300.0;           ///< sight is not looked for beyond this, along the road
+  double step_m = 5.0;              ///< vehicle positions tried along the road (then bisected)
+  double default_width_m = 6.0;     ///< carriageway width when the context gives none
+  double default_speed_kmh = 50.0;  ///< road speed when the context gives none
+  double crossing_speed_mps = 1.0;  ///< robot's speed while crossing
+  double startup_time_s = 1.0;      ///< from the decision to moving
+  double margin_s = 1.0;            ///< safety margin on top of the crossing time
+  double building_height_m = 8.0;   ///< building without height or building:levels
+  double level_height_m = 3.0;      ///< height of one building:levels level
+  double wall_height_m = 2.0;       ///< barrier=wall without height
+  double fence_height_m = 1.5;      ///< barrier=fence without height
+  /// 1: LIMITED_VISIBILITY makes a segment unsuitable (applied by the runtime); 0: it only
+  /// adds rank_penalty to the rank.
+  double limited_visibility_unsuitable = 1.0;
+  double rank_penalty = 4.0;
+
+  void describe(std::vector<ParameterSpec>& out);
+};
+
+/// One edge of an obstacle's footprint (a building outline or a wall line), UTM metres, with
+/// the opaque band above the local ground: from bottom_m (0, or min_height for a building on
+/// pillars or over a passage) to top_m.
+struct ObstacleEdge {
+  PlanePoint a, b;
+  float bottom_m = 0.0f, top_m = 0.0f;
+};
+
+struct ObstacleReport {
+  std::size_t buildings = 0, walls = 0, fences = 0;
+  std::size_t default_height = 0;  ///< obstacles that took a default height
+  std::size_t edges = 0;
+  std::size_t relations_skipped = 0;  ///< multipolygon buildings (not read, see the docs)
+};
+
+struct Obstacles {
+  std::vector<ObstacleEdge> edges;
+  ObstacleReport report;
+};
+
+/// A height tag ("12", "12.5 m", "12m", "40 ft", "40'") in metres; NaN when unreadable.
+double parse_height_m(std::string_view text) noexcept;
+
+/// Reads building footprints (closed ways with building=*, except roof and no) and
+/// barrier=wall/fence ways from the OSM file in two passes of its own (ways, then the nodes
+/// they use), keeping only edges that come within `reach_m` of the box [min, max] (UTM). Node
+/// locations are kept only within 1 km beyond that; the ways' node references are held for the
+/// whole file (8 bytes each: about 50 bytes a building).
+Obstacles read_obstacles(const std::string& osm_path, const geo::UtmZone& zone,
+                         const PlanePoint& min, const PlanePoint& max, double reach_m,
+                         const SightParameters& parameters, Progress& progress);
+
+struct SightReport {
+  std::size_t segments = 0;         ///< segments with a sight distance
+  std::size_t limited = 0;          ///< of them LIMITED_VISIBILITY
+  std::size_t skipped_tunnels = 0;  ///< tunnel segments (no sight computed)
+  std::size_t lines_of_sight = 0;   ///< visibility tests made
+};
+
+/// Fills the sight fields of every segment (run after terrain and context). `terrain` is the
+/// elevation grid (nullptr: flat ground); road surface elevations are taken from it, and from
+/// elevation_m at the robot's own segment (bridges). Uses every core.
+SightReport compute_sight(RoadGraph& graph, const Grid* terrain,
+                          const std::vector<ObstacleEdge>& obstacles,
+                          const SightParameters& parameters);
+
+/// In cost mode (limited_visibility_unsuitable = 0), adds rank_penalty to the rank of every
+/// LIMITED_VISIBILITY segment (clamped to 14) and recomputes its score; run after the ranks.
+void apply_sight_rank_penalty(RoadGraph& graph, const SightParameters& parameters);
+
+}  // namespace roadcross::preprocess

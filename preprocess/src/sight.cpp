@@ -1,0 +1,419 @@
+#include "roadcross/preprocess/sight.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <boost/geometry.hpp>
+#include <boost/geometry/index/rtree.hpp>
+#include <cmath>
+#include <thread>
+#include <unordered_map>
+
+namespace roadcross::preprocess {
+
+void SightParameters::describe(std::vector<ParameterSpec>& out) {
+  const std::string s = "sight";
+  out.push_back({s, "enabled", &enabled, 0, 1, true,
+                 "1: compute sight distances; 0: skip the stage (columns NULL)"});
+  out.push_back({s, "sensor_height_m", &sensor_height_m, 0, 1000, false,
+                 "robot's sensor above the ground at the kerb, metres"});
+  out.push_back({s, "object_height_m", &object_height_m, 0, 100, false,
+                 "height of the part of an approaching vehicle that must be seen, metres"});
+  out.push_back({s, "range_m", &range_m, 1, 5000, false,
+                 "sight is looked for up to this far along the road, metres"});
+  out.push_back({s, "step_m", &step_m, 0.1, 100, false,
+                 "vehicle positions are tried every step_m along the road (then bisected)"});
+  out.push_back({s, "default_width_m", &default_width_m, 0, 100, false,
+                 "carriageway width when the context stage gives none, metres"});
+  out.push_back({s, "default_speed_kmh", &default_speed_kmh, 1, 300, false,
+                 "road speed when the context stage gives none, km/h"});
+  out.push_back({s, "crossing_speed_mps", &crossing_speed_mps, 0.05, 20, false,
+                 "robot's speed while crossing, m/s"});
+  out.push_back({s, "startup_time_s", &startup_time_s, 0, 600, false,
+                 "from the decision to cross to moving, seconds"});
+  out.push_back({s, "margin_s", &margin_s, 0, 600, false,
+                 "safety margin added to the crossing time, seconds"});
+  out.push_back({s, "building_height_m", &building_height_m, 0, 1000, false,
+                 "building without height or building:levels, metres"});
+  out.push_back({s, "level_height_m", &level_height_m, 0.5, 20, false,
+                 "height of one building:levels level, metres"});
+  out.push_back({s, "wall_height_m", &wall_height_m, 0, 100, false,
+                 "barrier=wall without a height tag, metres"});
+  out.push_back({s, "fence_height_m", &fence_height_m, 0, 100, false,
+                 "barrier=fence without a height tag, metres"});
+  out.push_back({s, "limited_visibility_unsuitable", &limited_visibility_unsuitable, 0, 1, true,
+                 "1: LIMITED_VISIBILITY makes a segment unsuitable; 0: it adds rank_penalty"});
+  out.push_back({s, "rank_penalty", &rank_penalty, 0, 14, true,
+                 "rank added to a LIMITED_VISIBILITY segment when it is only a cost"});
+}
+
+namespace {
+
+namespace bg = boost::geometry;
+namespace bgi = boost::geometry::index;
+using BPoint = bg::model::point<double, 2, bg::cs::cartesian>;
+using BSegment = bg::model::segment<BPoint>;
+using BBox = bg::model::box<BPoint>;
+/// Edges are indexed by their boxes: the exact crossing test is crossing_parameter(), cheaper
+/// than Boost's robust segment-segment predicate.
+using EdgeValue = std::pair<BBox, std::uint32_t>;
+using EdgeTree = bgi::rtree<EdgeValue, bgi::rstar<16>>;
+
+struct Point3 {
+  double x = 0.0, y = 0.0, z = 0.0;
+  double ground_m = 0.0;  ///< the ground under the point (z minus the sensor/object height)
+};
+
+PlanePoint lerp(const PlanePoint& a, const PlanePoint& b, double t) {
+  return {a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
+}
+
+double distance_m(const PlanePoint& a, const PlanePoint& b) {
+  return std::hypot(b.x - a.x, b.y - a.y);
+}
+
+/// The road as an approaching driver follows it, from the robot's point outwards.
+struct Path {
+  std::vector<PlanePoint> points;
+  std::vector<double> at_m;  ///< distance along the path of each point
+
+  double length_m() const { return at_m.back(); }
+  void add(const PlanePoint& p) {
+    const double step = distance_m(points.back(), p);
+    if (step < 1e-9) return;  // joints and zero-length legs
+    points.push_back(p);
+    at_m.push_back(at_m.back() + step);
+  }
+  PlanePoint at(double d_m) const {
+    const auto it = std::upper_bound(at_m.begin(), at_m.end(), d_m);
+    if (it == at_m.begin()) return points.front();
+    if (it == at_m.end()) return points.back();
+    const auto i = static_cast<std::size_t>(it - at_m.begin());
+    return lerp(points[i - 1], points[i], (d_m - at_m[i - 1]) / (at_m[i] - at_m[i - 1]));
+  }
+};
+
+struct Incidence {
+  std::size_t piece;
+  bool at_end;  ///< the piece's to-node (else its from-node)
+};
+using Incidences = std::unordered_map<std::int64_t, std::vector<Incidence>>;
+
+Incidences incidences_of(const RoadGraph& graph) {
+  Incidences out;
+  for (std::size_t p = 0; p < graph.pieces.size(); ++p) {
+    out[graph.pieces[p].from_node_id].push_back({p, false});
+    out[graph.pieces[p].to_node_id].push_back({p, true});
+  }
+  return out;
+}
+
+/// Cumulative length at each vertex of a piece.
+std::vector<double> cumulative_m(const std::vector<PlanePoint>& points) {
+  std::vector<double> out(points.size(), 0.0);
+  for (std::size_t i = 1; i < points.size(); ++i) {
+    out[i] = out[i - 1] + distance_m(points[i - 1], points[i]);
+  }
+  return out;
+}
+
+/// Index of the leg [i, i+1] of the piece that holds position pos_m.
+std::size_t leg_at(const std::vector<double>& cumulative, double pos_m) {
+  const auto it = std::upper_bound(cumulative.begin(), cumulative.end(), pos_m);
+  const auto i = static_cast<std::size_t>(std::max<std::ptrdiff_t>(1, it - cumulative.begin()));
+  return std::min(i, cumulative.size() - 1) - 1;
+}
+
+/// The first direction (unit vector) of a piece leaving the node it is incident at.
+PlanePoint leaving_direction(const RoadPiece& piece, bool at_end) {
+  const std::size_t n = piece.points.size();
+  const PlanePoint& from = at_end ? piece.points[n - 1] : piece.points[0];
+  for (std::size_t k = 1; k < n; ++k) {
+    const PlanePoint& to = at_end ? piece.points[n - 1 - k] : piece.points[k];
+    const double len = distance_m(from, to);
+    if (len > 1e-9) return {(to.x - from.x) / len, (to.y - from.y) / len};
+  }
+  return {0.0, 0.0};
+}
+
+/// The straightest continuation at `node` for a path arriving with direction `heading`
+/// (unit), other than the piece end it arrived through; nullptr at a dead end. Ties go to the
+/// lower piece index, so the choice is deterministic.
+const Incidence* continuation(const RoadGraph& graph, const Incidences& incidences,
+                              std::int64_t node, const Incidence& arrived,
+                              const PlanePoint& heading) {
+  const auto it = incidences.find(node);
+  if (it == incidences.end()) return nullptr;
+  const Incidence* best = nullptr;
+  double best_cos = -2.0;
+  for (const Incidence& c : it->second) {
+    if (c.piece == arrived.piece && c.at_end == arrived.at_end) continue;
+    const PlanePoint d = leaving_direction(graph.pieces[c.piece], c.at_end);
+    const double cos = d.x * heading.x + d.y * heading.y;
+    if (cos > best_cos) best_cos = cos, best = &c;
+  }
+  return best;
+}
+
+/// Appends the vertices of `piece` after position pos_m in the walking direction.
+void walk_piece(const RoadPiece& piece, const std::vector<double>& cumulative, double pos_m,
+                bool towards_end, Path& path) {
+  const std::size_t leg = leg_at(cumulative, pos_m);
+  if (towards_end) {
+    for (std::size_t k = leg + 1; k < piece.points.size(); ++k) path.add(piece.points[k]);
+  } else {
+    for (std::size_t k = leg + 1; k-- > 0;) path.add(piece.points[k]);
+  }
+}
+
+PlanePoint last_heading(const Path& path) {
+  const std::size_t n = path.points.size();
+  if (n < 2) return {0.0, 0.0};
+  const double len = distance_m(path.points[n - 2], path.points[n - 1]);
+  return {(path.points[n - 1].x - path.points[n - 2].x) / len,
+          (path.points[n - 1].y - path.points[n - 2].y) / len};
+}
+
+/// The road from position pos_m of `piece` in one direction, continued through graph nodes
+/// onto the straightest continuation, until it is `range_m` long or reaches a dead end.
+Path follow_road(const RoadGraph& graph, const Incidences& incidences,
+                 const std::vector<std::vector<double>>& cumulative, std::size_t piece,
+                 double pos_m, bool towards_end, double range_m) {
+  const RoadPiece& first = graph.pieces[piece];
+  const std::vector<double>& c = cumulative[piece];
+  const std::size_t leg = leg_at(c, pos_m);
+  Path path;
+  path.points.push_back(lerp(first.points[leg], first.points[leg + 1],
+                             (pos_m - c[leg]) / std::max(1e-9, c[leg + 1] - c[leg])));
+  path.at_m.push_back(0.0);
+  walk_piece(first, c, pos_m, towards_end, path);
+  Incidence arrived{piece, towards_end};
+  // A ring of pieces shorter than the range is walked round again; the bound stops a ring of
+  // zero-length pieces.
+  for (std::size_t hops = 0; path.length_m() < range_m && hops < 10000; ++hops) {
+    const RoadPiece& at = graph.pieces[arrived.piece];
+    const std::int64_t node = arrived.at_end ? at.to_node_id : at.from_node_id;
+    const Incidence* next = continuation(graph, incidences, node, arrived, last_heading(path));
+    if (!next) break;
+    const RoadPiece& p = graph.pieces[next->piece];
+    // Entering at its from-node walks it towards its end, and the other way round.
+    const bool forward = !next->at_end;
+    walk_piece(p, cumulative[next->piece], forward ? 0.0 : p.length_m + 1.0, forward, path);
+    arrived = {next->piece, forward};
+  }
+  return path;
+}
+
+/// Where the sight line e->t crosses the edge a->b: the parameter along e->t, or NaN.
+double crossing_parameter(const Point3& e, const Point3& t, const PlanePoint& a,
+                          const PlanePoint& b) {
+  const double rx = t.x - e.x, ry = t.y - e.y, sx = b.x - a.x, sy = b.y - a.y;
+  const double denom = rx * sy - ry * sx;
+  if (std::abs(denom) < 1e-12) return NAN;  // parallel: grazing along an edge hides nothing
+  const double qx = a.x - e.x, qy = a.y - e.y;
+  const double along_line = (qx * sy - qy * sx) / denom;
+  const double along_edge = (qx * ry - qy * rx) / denom;
+  if (along_line < 0.0 || along_line > 1.0 || along_edge < 0.0 || along_edge > 1.0) return NAN;
+  return along_line;
+}
+
+/// What blocks a line of sight: the terrain and the obstacle prisms.
+class Scene {
+ public:
+  Scene(const Grid* terrain, const std::vector<ObstacleEdge>& edges)
+      : terrain_(terrain), edges_(edges) {
+    std::vector<EdgeValue> values;
+    values.reserve(edges.size());
+    for (std::size_t i = 0; i < edges.size(); ++i) {
+      const ObstacleEdge& e = edges[i];
+      values.push_back({BBox(BPoint(std::min(e.a.x, e.b.x), std::min(e.a.y, e.b.y)),
+                             BPoint(std::max(e.a.x, e.b.x), std::max(e.a.y, e.b.y))),
+                        static_cast<std::uint32_t>(i)});
+    }
+    tree_ = EdgeTree(values.begin(), values.end());  // packed (STR) bulk load
+  }
+
+  /// Ground elevation at p: the terrain, or `fallback` where it has none (or without it).
+  double ground(const PlanePoint& p, double fallback) const {
+    if (!terrain_) return fallback;
+    const double z = terrain_->sample(p.x, p.y);
+    return std::isnan(z) ? fallback : z;
+  }
+
+  bool visible(const Point3& eye, const Point3& target) const {
+    return !terrain_blocks(eye, target) && !obstacle_blocks(eye, target);
+  }
+
+ private:
+  /// The terrain, sampled every cell along the line (bilinear), rises to the line.
+  bool terrain_blocks(const Point3& eye, const Point3& target) const {
+    if (!terrain_) return false;
+    const double length = std::hypot(target.x - eye.x, target.y - eye.y);
+    const auto n = static_cast<std::size_t>(std::ceil(length / terrain_->spec.cell_m));
+    for (std::size_t k = 1; k < n; ++k) {
+      const double t = double(k) / double(n);
+      const double z =
+          terrain_->sample(eye.x + t * (target.x - eye.x), eye.y + t * (target.y - eye.y));
+      if (!std::isnan(z) && z >= eye.z + t * (target.z - eye.z)) return true;
+    }
+    return false;
+  }
+
+  /// The line passes through the opaque band of an obstacle edge it crosses in plan. Most
+  /// lines are clear, so the whole query runs (the callback query is much faster than Boost's
+  /// incremental query iterator that an early exit would need).
+  bool obstacle_blocks(const Point3& eye, const Point3& target) const {
+    const BSegment line(BPoint(eye.x, eye.y), BPoint(target.x, target.y));
+    bool blocked = false;
+    const auto blocks = [&](const EdgeValue& value) {
+      if (!blocked) blocked = edge_blocks(edges_[value.second], eye, target);
+      return false;  // nothing is collected
+    };
+    EdgeValue* none = nullptr;
+    tree_.query(bgi::intersects(line) && bgi::satisfies(blocks), none);
+    return blocked;
+  }
+
+  bool edge_blocks(const ObstacleEdge& edge, const Point3& eye, const Point3& target) const {
+    const double t = crossing_parameter(eye, target, edge.a, edge.b);
+    if (std::isnan(t)) return false;
+    const double z = eye.z + t * (target.z - eye.z);
+    const PlanePoint p{eye.x + t * (target.x - eye.x), eye.y + t * (target.y - eye.y)};
+    const double base = ground(p, eye.ground_m + t * (target.ground_m - eye.ground_m));
+    return z >= base + edge.bottom_m && z <= base + edge.top_m;
+  }
+
+  const Grid* terrain_;
+  const std::vector<ObstacleEdge>& edges_;
+  EdgeTree tree_;
+};
+
+/// How far along `path` a vehicle stays continuously visible from `eye`: stepping out by
+/// step_m until the first hidden position, then bisecting between it and the last visible one.
+/// A road that ends (dead end) before the range hides no vehicle beyond: the range is returned.
+double sight_along(const Scene& scene, const Path& path, const Point3& eye,
+                   const SightParameters& p, std::size_t& tests) {
+  const auto target_at = [&](double d_m) {
+    const PlanePoint q = path.at(d_m);
+    const double g = scene.ground(q, eye.ground_m);
+    return Point3{q.x, q.y, g + p.object_height_m, g};
+  };
+  const auto visible = [&](double d_m) {
+    ++tests;
+    return scene.visible(eye, target_at(d_m));
+  };
+  const double end_m = std::min(p.range_m, path.length_m());
+  double seen_m = 0.0;
+  for (std::size_t k = 1; seen_m < end_m; ++k) {
+    const double d_m = std::min(double(k) * p.step_m, end_m);
+    if (!visible(d_m)) {
+      double hidden_m = d_m;
+      for (int i = 0; i < 6; ++i) {  // step / 64: 8 cm at the default step
+        const double mid_m = 0.5 * (seen_m + hidden_m);
+        (visible(mid_m) ? seen_m : hidden_m) = mid_m;
+      }
+      return seen_m;
+    }
+    seen_m = d_m;
+  }
+  return p.range_m;
+}
+
+double required_sight_m(const Segment& s, const SightParameters& p) {
+  const double speed_mps = s.maxspeed_kmh.value_or(float(p.default_speed_kmh)) / 3.6;
+  const double width_m = s.width_m.value_or(float(p.default_width_m));
+  return speed_mps * (width_m / p.crossing_speed_mps + p.startup_time_s + p.margin_s);
+}
+
+struct Context {
+  const RoadGraph& graph;
+  const Incidences incidences;
+  const std::vector<std::vector<double>> cumulative;
+  const Scene& scene;
+  const SightParameters& p;
+};
+
+/// Both directions from both kerbs of segment s; each direction keeps its worse kerb (the
+/// robot may arrive on either side).
+void sight_of_segment(const Context& c, Segment& s, std::size_t& tests) {
+  const RoadPiece& piece = c.graph.pieces[s.piece_index];
+  const std::vector<double>& cum = c.cumulative[s.piece_index];
+  const double pos_m = std::clamp(s.offset_in_piece_m + 0.5 * s.length_m, 0.0, cum.back());
+  const Path ahead =
+      follow_road(c.graph, c.incidences, c.cumulative, s.piece_index, pos_m, true, c.p.range_m);
+  const Path behind =
+      follow_road(c.graph, c.incidences, c.cumulative, s.piece_index, pos_m, false, c.p.range_m);
+  const std::size_t leg = leg_at(cum, pos_m);
+  const PlanePoint& a = piece.points[leg];
+  const PlanePoint& b = piece.points[leg + 1];
+  const double len = std::max(1e-9, distance_m(a, b));
+  const PlanePoint normal{-(b.y - a.y) / len, (b.x - a.x) / len};
+  const double half_width_m = 0.5 * s.width_m.value_or(float(c.p.default_width_m));
+  double forward_m = c.p.range_m, backward_m = c.p.range_m;
+  for (const double side : {1.0, -1.0}) {
+    const PlanePoint kerb{ahead.points[0].x + side * half_width_m * normal.x,
+                          ahead.points[0].y + side * half_width_m * normal.y};
+    // On a bridge the ground under the kerb is the valley: the structure's elevation counts.
+    const double fallback = s.elevation_m.value_or(0.0f);
+    const double g = s.bridge ? fallback : c.scene.ground(kerb, fallback);
+    const Point3 eye{kerb.x, kerb.y, g + c.p.sensor_height_m, g};
+    forward_m = std::min(forward_m, sight_along(c.scene, ahead, eye, c.p, tests));
+    backward_m = std::min(backward_m, sight_along(c.scene, behind, eye, c.p, tests));
+  }
+  s.sight_forward_m = forward_m;
+  s.sight_backward_m = backward_m;
+  s.sight_min_m = std::min(forward_m, backward_m);
+  s.required_sight_m = required_sight_m(s, c.p);
+  if (*s.sight_min_m < *s.required_sight_m) s.reasons.add("LIMITED_VISIBILITY");
+}
+
+}  // namespace
+
+SightReport compute_sight(RoadGraph& graph, const Grid* terrain,
+                          const std::vector<ObstacleEdge>& obstacles, const SightParameters& p) {
+  const Scene scene(terrain, obstacles);
+  std::vector<std::vector<double>> cumulative;
+  cumulative.reserve(graph.pieces.size());
+  for (const RoadPiece& piece : graph.pieces) cumulative.push_back(cumulative_m(piece.points));
+  const Context context{graph, incidences_of(graph), std::move(cumulative), scene, p};
+
+  // Dense streets take much longer than open roads: threads take small chunks in turn.
+  constexpr std::size_t kChunk = 64;
+  std::atomic<std::size_t> next{0}, tests{0};
+  const auto work = [&] {
+    std::size_t my_tests = 0;
+    for (std::size_t begin; (begin = next.fetch_add(kChunk)) < graph.segments.size();) {
+      const std::size_t end = std::min(begin + kChunk, graph.segments.size());
+      for (std::size_t i = begin; i < end; ++i) {
+        Segment& s = graph.segments[i];
+        // A tunnel is never crossed (TUNNEL) and the terrain above it would hide everything.
+        if (!s.tunnel) sight_of_segment(context, s, my_tests);
+      }
+    }
+    tests += my_tests;
+  };
+  const unsigned threads = std::clamp(std::thread::hardware_concurrency(), 1u, 16u);
+  std::vector<std::thread> pool;
+  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work);
+  work();
+  for (std::thread& t : pool) t.join();
+
+  SightReport report;
+  report.lines_of_sight = tests;
+  for (const Segment& s : graph.segments) {
+    report.skipped_tunnels += s.tunnel ? 1 : 0;
+    report.segments += s.sight_min_m ? 1 : 0;
+    report.limited += s.reasons.contains("LIMITED_VISIBILITY") ? 1 : 0;
+  }
+  return report;
+}
+
+void apply_sight_rank_penalty(RoadGraph& graph, const SightParameters& p) {
+  if (p.limited_visibility_unsuitable != 0.0) return;
+  for (Segment& s : graph.segments) {
+    if (!s.rank || !s.reasons.contains("LIMITED_VISIBILITY")) continue;
+    s.rank = std::min(14, *s.rank + static_cast<int>(p.rank_penalty));
+    s.score = 15 - *s.rank;
+  }
+}
+
+}  // namespace roadcross::preprocess
