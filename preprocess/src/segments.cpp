@@ -222,4 +222,13 @@ RoadGraph build_road_graph(const RoadNetwork& network, geo::UtmZone zone,
   return graph;
 }
 
+Incidences incidences_of(const RoadGraph& graph) {
+  Incidences out;
+  for (std::size_t p = 0; p < graph.pieces.size(); ++p) {
+    out[graph.pieces[p].from_node_id].push_back({p, false});
+    out[graph.pieces[p].to_node_id].push_back({p, true});
+  }
+  return out;
+}
+
 }  // namespace roadcross::preprocess

@@ -92,21 +92,6 @@ struct Path {
   }
 };
 
-struct Incidence {
-  std::size_t piece;
-  bool at_end;  ///< the piece's to-node (else its from-node)
-};
-using Incidences = std::unordered_map<std::int64_t, std::vector<Incidence>>;
-
-Incidences incidences_of(const RoadGraph& graph) {
-  Incidences out;
-  for (std::size_t p = 0; p < graph.pieces.size(); ++p) {
-    out[graph.pieces[p].from_node_id].push_back({p, false});
-    out[graph.pieces[p].to_node_id].push_back({p, true});
-  }
-  return out;
-}
-
 /// Cumulative length at each vertex of a piece.
 std::vector<double> cumulative_m(const std::vector<PlanePoint>& points) {
   std::vector<double> out(points.size(), 0.0);

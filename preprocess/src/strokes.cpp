@@ -14,22 +14,6 @@ struct Step {
   bool reversed;
 };
 
-struct Incidence {
-  std::size_t piece;
-  bool at_end;  ///< the piece's to-node (else its from-node)
-};
-
-using Incidences = std::unordered_map<std::int64_t, std::vector<Incidence>>;
-
-Incidences incidences_of(const RoadGraph& graph) {
-  Incidences out;
-  for (std::size_t p = 0; p < graph.pieces.size(); ++p) {
-    out[graph.pieces[p].from_node_id].push_back({p, false});
-    out[graph.pieces[p].to_node_id].push_back({p, true});
-  }
-  return out;
-}
-
 std::int64_t exit_node(const RoadPiece& piece, bool reversed) {
   return reversed ? piece.from_node_id : piece.to_node_id;
 }

@@ -108,6 +108,15 @@ struct RoadGraph {
   std::uint64_t dropped_ways = 0;       ///< ways with fewer than two located nodes
 };
 
+/// One end of a road piece at a graph node.
+struct Incidence {
+  std::size_t piece = 0;  ///< index into RoadGraph::pieces
+  bool at_end = false;    ///< the piece's to-node (else its from-node)
+};
+/// The piece ends at every graph node, by OSM node id.
+using Incidences = std::unordered_map<std::int64_t, std::vector<Incidence>>;
+Incidences incidences_of(const RoadGraph& graph);
+
 /// UTM zone of the centre of the bounding box of the located road nodes.
 geo::UtmZone choose_utm_zone(const RoadNetwork& network);
 
