@@ -45,11 +45,10 @@ void print_json_summary(const rp::BuildOptions& options, const rp::BuildSummary&
   out["notes"] = s.notes;
   nlohmann::ordered_json stages = nlohmann::ordered_json::array();
   for (const rp::StageRecord& stage : s.stages) {
-    stages.push_back(
-        {{"stage", stage.name},
-         {"seconds", stage.seconds},
-         {"summary", stage.summary},
-         {"peak_rss_mib", static_cast<double>(stage.peak_rss_kib) / 1024.0}});
+    stages.push_back({{"stage", stage.name},
+                      {"seconds", stage.seconds},
+                      {"summary", stage.summary},
+                      {"peak_rss_mib", static_cast<double>(stage.peak_rss_kib) / 1024.0}});
   }
   out["stages"] = stages;
   out["seconds"] = s.seconds;
