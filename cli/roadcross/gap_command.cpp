@@ -47,7 +47,8 @@ const char* reason_sentence(GapReason reason) {
     case GapReason::blocked:
       return "a stopped vehicle stands in the crossing";
     case GapReason::insufficient_sight:
-      return "the road is not seen far enough for its speed limit: cross elsewhere";
+      return "the road is not seen far enough for its speed limit (sensor range, bend, building, "
+             "crest or a junction close by): cross elsewhere";
     case GapReason::stale_track:
       return "a vehicle's track is too old to trust";
     case GapReason::gap_too_short:
@@ -73,6 +74,7 @@ nlohmann::ordered_json decision_json(const GapDecision& d, const GapCrossing& c,
   out["earliest_start_in_s"] = or_null(d.earliest_start_s);  // now = 0
   out["crossing_time_s"] = d.crossing_time_s;
   out["required_sight_m"] = d.required_sight_m;
+  out["visible_road_m"] = d.visible_road_m;
   out["critical_gap_s"] = d.critical_gap_s;
   out["vehicles_counted"] = d.vehicles_counted;
   out["stale_tracks"] = d.stale_tracks;
@@ -91,7 +93,9 @@ void print_decision(const GapDecision& d, const GapCrossing& c, const GapOptions
     std::printf("limiting    vehicle on input line %d\n", lines[d.limiting_vehicle]);
   } else {
     std::printf("limiting    %s\n",
-                d.margin_s ? "an unseen vehicle (sensor range or junction)" : "-");
+                d.margin_s
+                    ? "an unseen vehicle (beyond the visible road, or turning in at a junction)"
+                    : "-");
   }
   const bool hcm = d.critical_gap_s > 0;
   if (d.margin_s && hcm) {
@@ -109,8 +113,8 @@ void print_decision(const GapDecision& d, const GapCrossing& c, const GapOptions
   if (hcm) {
     std::printf("critical    HCM t_c %.2f s\n", d.critical_gap_s);
   } else {
-    std::printf("sight       needs %.0f m each way, sensor range %.0f m\n", d.required_sight_m,
-                o.sensor_range_m);
+    std::printf("sight       needs %.0f m each way, sees %.0f m (sensor range %.0f m)\n",
+                d.required_sight_m, d.visible_road_m, o.sensor_range_m);
   }
   std::printf("vehicles    %d counted, %d stale, %d beyond sensor range\n", d.vehicles_counted,
               d.stale_tracks, d.beyond_sensor_range);

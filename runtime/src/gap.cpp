@@ -91,6 +91,11 @@ Status check_common(const GapCrossing& c, const RobotMotion& r, double now_s, co
       !finite(c.maxspeed_kmh) || (c.junction_distance_m && !(*c.junction_distance_m >= 0))) {
     return invalid("gap: road width, lanes and maxspeed must be positive");
   }
+  for (const std::optional<double>& sight_m : {c.sight_forward_m, c.sight_backward_m}) {
+    if (sight_m && !(*sight_m >= 0)) {  // also NaN; +infinity means "unlimited"
+      return invalid("gap: a sight distance must be >= 0 metres");
+    }
+  }
   if (!(r.speed_mps > 0) || !finite(r.speed_mps)) {
     return invalid("gap: the robot's crossing speed must be positive (m/s)");
   }
@@ -118,6 +123,14 @@ Status check_vehicle(const TrackedVehicle& v, double now_s) {
     return invalid("gap: a vehicle's timestamp is in the future (after now): clocks differ?");
   }
   return {};
+}
+
+/// The road seen each way: the sensor range, cut by the shorter sight distance.
+double visible_road_m(const GapCrossing& c, const GapOptions& o) {
+  double visible_m = o.sensor_range_m;
+  if (c.sight_forward_m) visible_m = std::min(visible_m, *c.sight_forward_m);
+  if (c.sight_backward_m) visible_m = std::min(visible_m, *c.sight_backward_m);
+  return visible_m;
 }
 
 Result<Frame> make_frame(const GapCrossing& c) {
@@ -214,15 +227,16 @@ Result<GapDecision> gap_decision(const GapCrossing& crossing, const RobotMotion&
   GapDecision d;
   const BandTimes far = lane_times(f, robot, f.lanes - 1);
   d.crossing_time_s = far.exit_s;
-  // The vehicle nobody sees: just beyond the sensor range, in the far lane (the one the robot
-  // leaves last), faster than the limit. The road must be seen far enough to rule it out.
+  // The vehicle nobody sees: just beyond the visible road (the sensor range, or nearer where a
+  // bend, a building or a crest hides the road), in the far lane (the one the robot leaves
+  // last), faster than the limit. The road must be seen far enough to rule it out.
   const double unseen_speed_mps = crossing.maxspeed_kmh / 3.6 * options.unseen_speed_factor;
   d.required_sight_m = unseen_speed_mps * (far.exit_s + m) + corridor_half_m;
-  double unseen_margin_s =
-      (options.sensor_range_m - corridor_half_m) / unseen_speed_mps - far.exit_s;
-  // A vehicle turning in at a junction inside the sensor range appears there unannounced,
-  // at turning speed.
-  if (crossing.junction_distance_m && *crossing.junction_distance_m < options.sensor_range_m) {
+  d.visible_road_m = visible_road_m(crossing, options);
+  double unseen_margin_s = (d.visible_road_m - corridor_half_m) / unseen_speed_mps - far.exit_s;
+  // A vehicle turning in at a junction inside the visible road appears there unannounced, at
+  // turning speed (beyond it, the unseen vehicle above already covers it).
+  if (crossing.junction_distance_m && *crossing.junction_distance_m < d.visible_road_m) {
     const double turning_mps = options.turning_speed_kmh / 3.6 * options.unseen_speed_factor;
     unseen_margin_s =
         std::min(unseen_margin_s,
@@ -331,6 +345,7 @@ Result<GapDecision> hcm_gap_decision(const GapCrossing& crossing, const RobotMot
 double sight_distance_m(const Assessment& assessment, double sensor_range_m,
                         double clearance_m) noexcept {
   double sight_m = sensor_range_m;
+  if (assessment.sight_min_m) return std::min(sight_m, *assessment.sight_min_m);
   if (assessment.radius_m && *assessment.radius_m > 0 && clearance_m > 0) {
     sight_m = std::min(sight_m, std::sqrt(8.0 * *assessment.radius_m * clearance_m));
   }
@@ -353,6 +368,8 @@ Result<GapCrossing> gap_crossing(Map& map, const Position& position,
       std::max(1, static_cast<int>(std::lround(c.road_width_m / defaults.lane_width_m))));
   c.maxspeed_kmh = a->maxspeed_kmh.value_or(defaults.maxspeed_kmh);
   c.junction_distance_m = a->junction_distance_m;
+  c.sight_forward_m = a->sight_forward_m;
+  c.sight_backward_m = a->sight_backward_m;
   return {Status{}, c};
 }
 

@@ -95,5 +95,32 @@ for policy, row in summary.items():
 PY
 "$ROADCROSS" simulate --lanes 1 --width 3.5 --runs 3 --volume 0 --policy ours | grep -q "^ours" &&
   pass "simulate: synthetic road, table" || fail "simulate: table"
+
+# Issue 11 item 3: the gap decision takes the DB's sight distance. The same road with a 2 m wall
+# built across it 0.0014 deg (100 m) east of the robot: the build's sight stage stops the view
+# there (forward sight ~95-100 m from the segment's midpoint), the sensor range (200 m) does
+# not matter any more, and 176 m are needed -> WAIT, INSUFFICIENT_SIGHT, with no vehicle at all.
+sed 's#</osm>#  <node id="3" version="1" lat="49.9999" lon="14.40555"/>\
+  <node id="4" version="1" lat="50.0001" lon="14.40555"/>\
+  <way id="20" version="1"><nd ref="3"/><nd ref="4"/><tag k="barrier" v="wall"/></way>\
+</osm>#' "$WORK/map.osm" >"$WORK/wall.osm"
+"$ROADCROSS_BUILD" --osm "$WORK/wall.osm" -o "$WORK/wall.gpkg" -q
+wall=(--db "$WORK/wall.gpkg" --lat 50.00004504 --lon 14.40415)
+"$ROADCROSS" assess "${wall[@]}" --json >"$WORK/wall_assess.json"
+sight_min=$(json_field "$WORK/wall_assess.json" sight_min_m)
+python3 -c "import sys; s = float(sys.argv[1]); assert 90 <= s <= 101, s" "$sight_min" ||
+  fail "wall: sight_min_m $sight_min, expected 90..101 m"
+"$ROADCROSS" gap "${wall[@]}" "${robot[@]}" --json </dev/null >"$WORK/wall_gap.json"
+[[ $(json_field "$WORK/wall_gap.json" reason) == INSUFFICIENT_SIGHT ]] &&
+  pass "gap: the DB's sight distance (wall) means WAIT" || fail "wall gap: $(cat "$WORK/wall_gap.json")"
+near "$(json_field "$WORK/wall_gap.json" visible_road_m)" "$sight_min" 1e-9 || fail "wall gap: visible road"
+near "$(json_field "$WORK/go.json" visible_road_m)" 200 1e-9 || fail "open road: visible road is the sensor range"
+# margin = (visible - 1) / 16.667 - crossing time (9.5 s; negative: the hidden car would hit)
+crossing_s=$(json_field "$WORK/wall_gap.json" crossing_time_s)
+near "$crossing_s" 9.5 0.01 || fail "wall gap: crossing time $crossing_s"
+near "$(json_field "$WORK/wall_gap.json" margin_s)" \
+  "$(python3 -c "print(($sight_min - 1) / (50 / 3.6 * 1.2) - $crossing_s)")" 1e-6 || fail "wall gap: margin"
+"$ROADCROSS" simulate "${wall[@]}" --runs 2 --json >"$WORK/wall_sim.json"
+near "$(json_field "$WORK/wall_sim.json" road sight_m)" "$sight_min" 1e-9 || fail "simulate: road sight from the DB"
 expect_failure "simulate: --db without a place" "needs a place" -- "$ROADCROSS" simulate --db "$WORK/map.gpkg"
 finish

@@ -186,6 +186,34 @@ TEST(Gap, ShortSensorRangeIsInsufficientSight) {
   EXPECT_NEAR(*d.margin_s, 149.0 / (50.0 / 3.6 * 1.2) - 8.5, 1e-9);  // 0.44 s < 1 s
 }
 
+TEST(Gap, SightDistanceFromTheDbCutsTheVisibleRoad) {
+  // The DB sees 300 m forward but only 150 m backward (a building beside a bend): the unseen
+  // car can hide 150 m away although the sensor reaches 200 m. 150 m < 159.33 m -> WAIT.
+  GapCrossing c = crossing();
+  c.sight_forward_m = 300.0;
+  c.sight_backward_m = 150.0;
+  auto r = gap_decision(c, robot(), {}, 0.0, options());
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r->reason, GapReason::insufficient_sight);
+  EXPECT_DOUBLE_EQ(r->visible_road_m, 150.0);
+  EXPECT_NEAR(*r->margin_s, 149.0 / (50.0 / 3.6 * 1.2) - 8.5, 1e-9);  // 0.44 s
+  // 170 m backward: (170 - 1) / 16.667 - 8.5 = 1.64 s >= 1 -> GO.
+  c.sight_backward_m = 170.0;
+  r = gap_decision(c, robot(), {}, 0.0, options());
+  EXPECT_EQ(r->verdict, GapVerdict::go);
+  EXPECT_NEAR(*r->margin_s, 169.0 / (50.0 / 3.6 * 1.2) - 8.5, 1e-9);
+  // Both beyond the sensor range: the range limits (the empty-road case, 3.44 s).
+  c.sight_forward_m = c.sight_backward_m = 300.0;
+  r = gap_decision(c, robot(), {}, 0.0, options());
+  EXPECT_DOUBLE_EQ(r->visible_road_m, 200.0);
+  EXPECT_NEAR(*r->margin_s, 199.0 / (50.0 / 3.6 * 1.2) - 8.5, 1e-9);
+  // A junction 180 m away lies beyond a 170 m view: the hidden-car rule already covers it.
+  c.sight_backward_m = 170.0;
+  c.junction_distance_m = 180.0;
+  r = gap_decision(c, robot(), {}, 0.0, options());
+  EXPECT_NEAR(*r->margin_s, 169.0 / (50.0 / 3.6 * 1.2) - 8.5, 1e-9);
+}
+
 TEST(Gap, TrackBeyondSensorRangeIsCountedAndReported) {
   // 300 m west at 10 m/s: in 29.7 s, harmless, but reported as beyond the 200 m range.
   const GapDecision d = decide({car(-300.0, 2.5, 10.0)});
@@ -232,6 +260,15 @@ TEST(Gap, SightDistanceFromBend) {
   EXPECT_NEAR(sight_distance_m(a, 150.0), std::sqrt(1200.0), 1e-9);
 }
 
+TEST(Gap, SightDistanceFromTheDbReplacesTheBendEstimate) {
+  Assessment a;
+  a.radius_m = 50.0;  // the bend estimate would be 34.64 m
+  a.sight_min_m = 80.0;
+  EXPECT_DOUBLE_EQ(sight_distance_m(a, 150.0), 80.0);
+  a.sight_min_m = 300.0;  // the sensor range still caps it
+  EXPECT_DOUBLE_EQ(sight_distance_m(a, 150.0), 150.0);
+}
+
 TEST(Gap, JunctionCloseByMeansAVehicleCanTurnInUnseen) {
   // Turning in at 25 / 3.6 * 1.2 = 8.333 m/s. Junction 90 m away: (90 - 1) / 8.333 - 8.5 =
   // 2.18 s >= 1 -> GO (the range's 3.44 s is not smaller). Junction 80 m away:
@@ -255,6 +292,11 @@ TEST(Gap, BadInputIsAnError) {
   auto code = [](const GapCrossing& c, const RobotMotion& r, std::vector<TrackedVehicle> v) {
     return gap_decision(c, r, v, 0.0, options()).status.code;
   };
+  GapCrossing blind = crossing();
+  blind.sight_backward_m = -1.0;
+  EXPECT_EQ(code(blind, robot(), {}), StatusCode::invalid_argument);
+  blind.sight_backward_m = nan;
+  EXPECT_EQ(code(blind, robot(), {}), StatusCode::invalid_argument);
   TrackedVehicle bad = car(-50.0, 2.5, 10.0);
   bad.vx_mps = nan;
   EXPECT_EQ(code(crossing(), robot(), {bad}), StatusCode::invalid_argument);

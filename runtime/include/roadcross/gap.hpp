@@ -29,6 +29,10 @@ struct GapCrossing {
   double convergence_rad = 0.0;  ///< true_yaw = grid_yaw + convergence (vehicles in robot ENU)
   /// Distance along the road to the nearest junction, where a vehicle can turn in unseen.
   std::optional<double> junction_distance_m;
+  /// Road visible from the kerb each way along the road (the DB's sight_forward_m /
+  /// sight_backward_m: bends, buildings, walls and terrain), metres, >= 0. A vehicle can hide
+  /// beyond it even inside the sensor range. Unset: only the sensor range limits the view.
+  std::optional<double> sight_forward_m, sight_backward_m;
 };
 
 /// Defaults for what the DB does not say.
@@ -38,8 +42,8 @@ struct GapCrossingDefaults {
   double maxspeed_kmh = 50.0;  ///< when the DB has no maxspeed
 };
 
-/// The crossing at `position`: plan_crossing's start and heading, the DB's lanes, width and
-/// maxspeed (else `defaults`).
+/// The crossing at `position`: plan_crossing's start and heading, the DB's lanes, width,
+/// maxspeed (else `defaults`), junction distance and sight distances.
 Result<GapCrossing> gap_crossing(Map& map, const Position& position,
                                  const GapCrossingDefaults& defaults = {}) noexcept;
 
@@ -100,15 +104,20 @@ struct GapDecision {
   std::optional<double> earliest_start_s;
   double crossing_time_s = 0.0;   ///< start-up plus walking until the far lane is cleared
   double required_sight_m = 0.0;  ///< road the robot must see each way to rule out unseen cars
-  double critical_gap_s = 0.0;    ///< HCM t_c (hcm_gap_decision only)
-  int vehicles_counted = 0;       ///< vehicles that will still reach the crossing
+  /// Road the robot does see each way: the sensor range, cut by the crossing's sight distances
+  /// (the shorter side counts: the unseen vehicle may come from either), metres.
+  double visible_road_m = 0.0;
+  double critical_gap_s = 0.0;  ///< HCM t_c (hcm_gap_decision only)
+  int vehicles_counted = 0;     ///< vehicles that will still reach the crossing
   int stale_tracks = 0;
   int beyond_sensor_range = 0;  ///< tracks farther than sensor_range_m (still counted)
 };
 
 /// Our policy: GO when every vehicle's predicted PET is at least min_pet_s, no track is stale
-/// and the road is seen far enough. invalid_argument for NaN/infinite input, a non-positive
-/// speed or length, a negative start-up time, a timestamp after now_s, or bad options.
+/// and the road is seen far enough (visible_road_m >= required_sight_m, and no junction inside
+/// it from which a turning vehicle could arrive too soon). invalid_argument for NaN/infinite input,
+/// a non-positive speed or length, a negative start-up time, a timestamp after now_s, or bad
+/// options.
 Result<GapDecision> gap_decision(const GapCrossing& crossing, const RobotMotion& robot,
                                  std::span<const TrackedVehicle> vehicles, double now_s,
                                  const GapOptions& options = {}) noexcept;
@@ -129,9 +138,11 @@ Result<GapDecision> hcm_gap_decision(const GapCrossing& crossing, const RobotMot
                                      const GapOptions& options = {},
                                      const HcmOptions& hcm = {}) noexcept;
 
-/// How far along the road the robot can see at a place: the sensor range, cut by a bend (the
-/// chord visible past an obstruction `clearance_m` inside the curve: sqrt(8 R m), R = the
-/// assessment's radius_m). Junctions do not block the view; gap_decision handles them.
+/// How far along the road the robot can see at a place: the sensor range, cut by the DB's
+/// sight_min_m (schema v2: terrain, buildings, walls and bends, computed by roadcross-build).
+/// Where the DB has no sight distance (schema v1 DBs, tunnels) the bend estimate stands in: the
+/// chord visible past an obstruction `clearance_m` inside the curve, sqrt(8 R m), R = the
+/// assessment's radius_m. Junctions do not block the view; gap_decision handles them.
 double sight_distance_m(const Assessment& assessment, double sensor_range_m,
                         double clearance_m = 3.0) noexcept;
 
