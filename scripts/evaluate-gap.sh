@@ -16,11 +16,15 @@ roadcross="$build_dir/cli/roadcross"
 
 "$build_dir/cli/roadcross-build" --osm maps/prague/prague_nove_mesto_roads_2017.osm \
   --elevation maps/prague/N50E014.hgt -o "$work/prague.gpkg" -q
-# Places (UTM 33N): the top score + context of a two-way road (Apolinářská, straight, 106 m
-# from a junction) and a bad one (Vocelova: 13 m from a junction, on a 55 m bend), each 4 m
-# beside the centreline.
-best=(--db "$work/prague.gpkg" --utm 458960.9 5546739.3 --label "best: Apolinářská")
-bad=(--db "$work/prague.gpkg" --utm 459246.6 5547227.8 --label "bad: Vocelova")
+# Places (UTM 33N): the top score + context of a two-way road whose DB sight distance covers
+# the sensor range (Apolinářská, straight, 115 m from a junction, sight 248 m / 300 m; the
+# segment 10 m east sees only 102 m one way over an SRTM bump) and a bad one (Vocelova: 13 m
+# from a junction, on a 55 m bend), each 4 m beside the centreline. The bundled Prague map has
+# roads only, no buildings, so the build's sight stage cannot see the houses on the inside of
+# Vocelova's bend (its DB sight is 202 m); the bad place takes the bend estimate instead,
+# sqrt(8 * 55 m * 3 m) = 36 m (an obstruction 3 m inside the curve), given with --sight.
+best=(--db "$work/prague.gpkg" --utm 458950.9 5546737.2 --label "best: Apolinářská")
+bad=(--db "$work/prague.gpkg" --utm 459246.6 5547227.8 --sight 36 --label "bad: Vocelova")
 open=(--lanes 2 --width 7 --maxspeed 50 --label "open road: 2 lanes, 7 m, 50 km/h")
 common=(--runs "$runs" --seed "$seed" --volume "$volumes" --policy ours,hcm,naive
   --naive-distance 50,100,150 --json)
@@ -60,7 +64,9 @@ w("""## Set-up
   car following, 4.5 × 1.8 m. Right-hand traffic: the near half of the lanes drives one way,
   the far half the other. Vehicles do not yield to the robot (the worst case).
 - Sensing: every 0.1 s the robot gets tracks of the vehicles within its sight (the sensor range,
-  200 m, cut at a bend to √(8·R·3 m)), 0.1 s old, with 0.2 m and 0.2 m/s noise.
+  200 m, cut by the DB's sight distance `sight_min_m`; at the bad place the bend estimate
+  √(8·R·3 m) = 36 m, since the roads-only Prague map has no buildings), 0.1 s old, with 0.2 m
+  and 0.2 m/s noise.
 - Robot: waits 0.5 m before the kerb, decides every 0.1 s, then crosses at 1.2 m/s after 1 s of
   start-up (radius 0.4 m), never stopping; gives up after 120 s (counted as 120 s of waiting).
 - Metrics: **collision** = robot and vehicle in the same conflict area (the robot's path × the
