@@ -11,6 +11,7 @@
 #include <cstring>
 #include <limits>
 #include <optional>
+#include <random>
 #include <stdexcept>
 
 #include "roadcross/preprocess/errors.hpp"
@@ -24,23 +25,37 @@
 namespace roadcross::preprocess {
 
 AtomicOutput::AtomicOutput(std::string target) : target_(std::move(target)) {
-  std::string pattern = target_ + ".tmp-XXXXXX";
-  const int fd = ::mkstemp(pattern.data());
-  if (fd < 0) {
-    throw OutputError(target_ + ": cannot create the output (temporary file " + pattern +
-                      "): " + std::strerror(errno));
+  // Not mkstemp: the interrupt handler must know the name before the file exists (a signal
+  // between creating and registering it would leave a file behind), so the name is chosen and
+  // registered first, then created exclusively.
+  std::random_device entropy;
+  constexpr char kLetters[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789";
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    std::string candidate = target_ + ".tmp-";
+    for (int i = 0; i < 6; ++i) candidate += kLetters[entropy() % (sizeof kLetters - 1)];
+    set_interrupt_cleanup_path(candidate.c_str());
+    const int fd = ::open(candidate.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+    if (fd >= 0) {
+      ::close(fd);
+      temp_path_ = std::move(candidate);
+      return;
+    }
+    set_interrupt_cleanup_path(nullptr);
+    if (errno != EEXIST) {
+      throw OutputError(target_ + ": cannot create the output (temporary file " + candidate +
+                        "): " + std::strerror(errno));
+    }
   }
-  ::close(fd);
-  temp_path_ = pattern;
-  set_interrupt_cleanup_path(temp_path_.c_str());
+  throw OutputError(target_ + ": cannot create the output: 100 temporary names taken");
 }
 
 AtomicOutput::~AtomicOutput() {
-  set_interrupt_cleanup_path(nullptr);
   if (!committed_) {
     std::remove(temp_path_.c_str());
     std::remove((temp_path_ + "-journal").c_str());
   }
+  // Only now: a signal before this line removes what is already gone, which is harmless.
+  set_interrupt_cleanup_path(nullptr);
 }
 
 void AtomicOutput::commit() {

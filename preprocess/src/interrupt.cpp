@@ -12,6 +12,7 @@ namespace {
 // Signal handlers may only touch lock-free atomics and call async-signal-safe functions, so the
 // path is kept in a fixed buffer and published through an atomic flag.
 char g_cleanup_path[4096];
+char g_cleanup_journal_path[4096 + 8];  // the path + "-journal" (SQLite's rollback journal)
 volatile std::sig_atomic_t g_has_cleanup_path = 0;
 
 void write_stderr(const char* text) noexcept {
@@ -22,6 +23,7 @@ void write_stderr(const char* text) noexcept {
 extern "C" void on_interrupt(int signal_number) {
   if (g_has_cleanup_path) {
     ::unlink(g_cleanup_path);
+    ::unlink(g_cleanup_journal_path);
     write_stderr("\nroadcross-build: interrupted; removed the partial output ");
     write_stderr(g_cleanup_path);
     write_stderr("\n");
@@ -48,6 +50,8 @@ void set_interrupt_cleanup_path(const char* path) noexcept {
   g_has_cleanup_path = 0;
   if (path == nullptr || std::strlen(path) >= sizeof g_cleanup_path) return;
   std::strcpy(g_cleanup_path, path);
+  std::strcpy(g_cleanup_journal_path, path);
+  std::strcat(g_cleanup_journal_path, "-journal");
   g_has_cleanup_path = 1;
 }
 
