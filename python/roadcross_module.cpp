@@ -162,7 +162,7 @@ Position position_from(std::optional<double> lat, std::optional<double> lon,
 
 /// repr(obj) as "Name(a=..., b=...)" from the listed attributes.
 std::string repr_of(const py::handle& obj, const char* name,
-                    std::initializer_list<const char*> attributes) {
+                    const std::vector<const char*>& attributes) {
   std::string out = std::string(name) + "(";
   bool first = true;
   for (const char* attribute : attributes) {
@@ -175,10 +175,13 @@ std::string repr_of(const py::handle& obj, const char* name,
   return out + ")";
 }
 
+// The attribute names are copied into the closure (an initializer_list's array would not
+// outlive this call).
 template <typename Class>
 void add_repr(Class& cls, const char* name, std::initializer_list<const char*> attributes) {
-  cls.def("__repr__",
-          [name, attributes](const py::object& self) { return repr_of(self, name, attributes); });
+  cls.def("__repr__", [name, names = std::vector<const char*>(attributes)](const py::object& self) {
+    return repr_of(self, name, names);
+  });
 }
 
 /// A Map that can be closed (Python's `with` and close()) before it is garbage-collected.

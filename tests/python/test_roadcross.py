@@ -342,6 +342,24 @@ class HandDerived(unittest.TestCase):
                               yaw_rad=plan.heading_rad)
         self.assertEqual((p.state, p.progress), ("ON_TRACK", 0.0))
 
+    def test_reprs_show_the_values(self):
+        lat = 50.0 + 5.0 / 111229.0
+        a = self.map.assess(lat=lat, lon=14.4)
+        self.assertEqual(repr(a), f"Assessment(valid=True, suitable={a.suitable}, "
+                         f"score={a.score!r}, context_score={a.context_score!r}, "
+                         f"distance_m={a.distance_m!r}, reasons={a.reasons!r})")
+        info = self.map.info
+        self.assertEqual(repr(info), f"MapInfo(path={straight_db!r}, schema_version="
+                         f"{info.schema_version}, utm_zone=33, segment_count={info.segment_count})")
+        p = a.road.closest
+        self.assertEqual(repr(p), f"PlanePoint(easting_m={p.easting_m!r}, northing_m={p.northing_m!r})")
+        for value in (self.map.road_heading(lat=lat, lon=14.4), self.map.nearest(lat=lat, lon=14.4),
+                      self.map.plan_crossing(lat=lat, lon=14.4),
+                      self.map.gap_crossing(lat=lat, lon=14.4),
+                      self.map.better_place(lat=lat, lon=14.4)):
+            self.assertTrue(repr(value).startswith(type(value).__name__ + "("), repr(value))
+        self.assertEqual(repr(self.map), f"roadcross.Map({straight_db!r})")
+
     def test_gap_without_vehicles(self):
         # No vehicle, residential road without tags: 2 lanes of 6 m at 50 km/h. Required sight
         # (docs/runtime.md) is under the 200 m sensor range, so GO; with 50 m of range, WAIT.
