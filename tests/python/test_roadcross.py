@@ -14,6 +14,8 @@ map are skipped), ROADCROSS_TEST_DATA_DIR, ROADCROSS_MAPS_DIR, ROADCROSS_BINARY_
 import json
 import math
 import os
+import re
+import shutil
 import sqlite3
 import subprocess
 import sys
@@ -477,6 +479,31 @@ class PositionArguments(unittest.TestCase):
         self.assertTrue(m.closed)
         with self.assertRaises(ValueError):
             m.assess(lat=50.0, lon=14.4)
+
+
+@NEEDS_BUILD
+class DocExamples(unittest.TestCase):
+    """Each Python example in docs/embedding.md prints exactly the output shown after it."""
+
+    def test_examples(self):
+        source = os.path.join(os.path.dirname(__file__), "..", "..")
+        with open(os.path.join(source, "docs", "embedding.md")) as f:
+            blocks = re.findall(r"```(\w*)\n(.*?)```", f.read(), re.S)
+        # The examples run from the repository root with out/prague.gpkg (run-default.sh).
+        root = os.path.join(tmp.name, "doc-root")
+        os.makedirs(os.path.join(root, "out"), exist_ok=True)
+        if not os.path.exists(os.path.join(root, "out", "prague.gpkg")):
+            os.symlink(prague_db, os.path.join(root, "out", "prague.gpkg"))
+            shutil.copy(os.path.join(source, "README.md"), root)
+        examples = [(body, blocks[i + 1][1]) for i, (lang, body) in enumerate(blocks)
+                    if lang == "python"]
+        self.assertGreaterEqual(len(examples), 4)
+        for body, expected in examples:
+            with self.subTest(example=body.splitlines()[0]):
+                out = subprocess.run([sys.executable, "-c", body], cwd=root, capture_output=True,
+                                     text=True)
+                self.assertEqual(out.stderr, "")
+                self.assertEqual(out.stdout, expected)
 
 
 class Installed(unittest.TestCase):
