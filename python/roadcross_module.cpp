@@ -522,7 +522,9 @@ void bind_map(py::module_& m) {
       .def(py::init<const std::filesystem::path&>(), "path"_a,
            "path: the map file (str or os.PathLike)")
       .def_property_readonly(
-          "info", [](PyMap& self) { return self.get().info(); },
+          "info",
+          // A copy: a reference into the Map would dangle after close().
+          [](PyMap& self) { return MapInfo(self.get().info()); },
           "MapInfo: UTM zone, extent, segment count, metadata")
       .def_property_readonly("closed", &PyMap::closed)
       .def("close", &PyMap::close, "Close the map now; later queries raise ValueError.")

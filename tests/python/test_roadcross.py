@@ -462,6 +462,8 @@ class PositionArguments(unittest.TestCase):
 
     def test_argument_errors(self):
         with roadcross.Map(straight_db) as m:
+            info = m.info
+            road = m.assess(lat=50.0, lon=14.4).road
             with self.assertRaises(TypeError):
                 m.assess()  # no position
             with self.assertRaises(TypeError):
@@ -475,8 +477,11 @@ class PositionArguments(unittest.TestCase):
             self.assertEqual(caught.exception.code, "invalid_argument")
             with self.assertRaises(roadcross.InvalidArgumentError):
                 m.nearest(lat=50.0, lon=14.4, max_distance_m=-1.0)
-        # The with block closed the map.
+        # The with block closed the map; values read before stay valid (they are copies).
         self.assertTrue(m.closed)
+        self.assertEqual(info.utm_zone, 33)
+        self.assertEqual(info.path, straight_db)
+        self.assertEqual(road.highway, "residential")
         with self.assertRaises(ValueError):
             m.assess(lat=50.0, lon=14.4)
 
