@@ -40,8 +40,9 @@ if(TARGET roadcross-build)
   install(TARGETS roadcross-build RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT tools)
 endif()
 
-# Debian packages: roadcross-runtime-dev (library, headers, CMake and pkg-config files) and
-# roadcross-tools (the executables). `cpack -G DEB` in the build directory.
+# Debian packages: roadcross-runtime-dev (library, headers, CMake and pkg-config files),
+# roadcross-tools (the executables) and python3-roadcross (the Python module, when
+# built). `cpack -G DEB` in the build directory.
 set(CPACK_PACKAGE_NAME roadcross)
 set(CPACK_PACKAGE_VENDOR "roadcross")
 set(CPACK_PACKAGE_CONTACT "roadcross maintainers <roadcross@localhost>")
@@ -53,6 +54,15 @@ set(CPACK_DEBIAN_RUNTIME_PACKAGE_NAME roadcross-runtime-dev)
 set(CPACK_DEBIAN_RUNTIME_PACKAGE_DEPENDS "libsqlite3-dev, libgeographiclib-dev")
 set(CPACK_DEBIAN_TOOLS_PACKAGE_NAME roadcross-tools)
 set(CPACK_DEBIAN_TOOLS_PACKAGE_SHLIBDEPS ON)
+# python3-roadcross: the Python module, for the interpreter it was built for.
+if(TARGET roadcross_python)
+  list(APPEND CPACK_COMPONENTS_ALL python)
+  set(CPACK_DEBIAN_PYTHON_PACKAGE_NAME python3-roadcross)
+  set(CPACK_DEBIAN_PYTHON_PACKAGE_SHLIBDEPS ON)
+  math(EXPR roadcross_python_next_minor "${Python_VERSION_MINOR} + 1")
+  set(CPACK_DEBIAN_PYTHON_PACKAGE_DEPENDS
+      "python3 (>= ${Python_VERSION_MAJOR}.${Python_VERSION_MINOR}), python3 (<< ${Python_VERSION_MAJOR}.${roadcross_python_next_minor})")
+endif()
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_GENERATOR DEB)
 include(CPack)

@@ -10,6 +10,8 @@ packages=(
   libgdal-dev libcgal-dev libeigen3-dev libboost-dev
   # runtime
   libsqlite3-dev libgeographiclib-dev
+  # Python bindings (built for Debian's /usr/bin/python3)
+  pybind11-dev python3-dev
   # cli and tests
   libcli11-dev nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev
   # render (Cairo draws the PNG; its text needs a font)

@@ -1,0 +1,541 @@
+"""Tests of the roadcross Python module, run by ctest with Debian's /usr/bin/python3.
+
+Values are compared with the `roadcross` CLI's --json output for the same map and positions:
+the CLI is an independent path (C++, nlohmann::json) to the same runtime, so every field must be
+equal exactly (JSON doubles round-trip). Other checks are derived by hand: a position 500 m from
+the only road, the crossing heading perpendicular to the road, monitor on a plan drawn by hand,
+and the exceptions for a missing file, a non-roadcross file and a NaN latitude.
+
+Environment (set by tests/CMakeLists.txt): PYTHONPATH (the built module), ROADCROSS (the CLI),
+ROADCROSS_BUILD (roadcross-build; absent in the runtime-only build, where the tests that need a
+map are skipped), ROADCROSS_TEST_DATA_DIR, ROADCROSS_MAPS_DIR, ROADCROSS_BINARY_DIR, CMAKE_COMMAND.
+"""
+
+import json
+import math
+import os
+import re
+import shutil
+import sqlite3
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import roadcross
+
+BUILD = os.environ.get("ROADCROSS_BUILD", "")
+CLI = os.environ["ROADCROSS"]
+DATA = os.environ["ROADCROSS_TEST_DATA_DIR"]
+MAPS = os.environ["ROADCROSS_MAPS_DIR"]
+NEEDS_BUILD = unittest.skipUnless(
+    BUILD, "needs roadcross-build to make a map (not in the runtime-only build)")
+
+# Positions on the bundled Prague map (lat, lon): Resslova street and a quiet Apolinarska street
+# by a zebra crossing (scripts/run-default.sh), Karlovo namesti, Vaclavske namesti, Ke Karlovu,
+# the map's edges, and one between blocks away from any road centreline.
+PRAGUE_POSITIONS = [
+    (50.075769, 14.416015),
+    (50.071507, 14.42651),
+    (50.0755, 14.4186),
+    (50.0800, 14.4260),
+    (50.0720, 14.4215),
+    (50.0790, 14.4100),
+    (50.0700, 14.4300),
+    (50.0810, 14.4350),
+    (50.0745, 14.4195),
+    (50.0765, 14.4205),
+]
+
+tmp = None
+prague_db = ""
+straight_db = ""
+
+
+def setUpModule():
+    global tmp, prague_db, straight_db
+    tmp = tempfile.TemporaryDirectory()
+    if not BUILD:
+        return
+    prague_db = os.path.join(tmp.name, "prague.gpkg")
+    subprocess.run([BUILD, "--osm", os.path.join(MAPS, "prague", "prague_nove_mesto_roads_2017.osm"),
+                    "--elevation", os.path.join(MAPS, "prague", "N50E014.hgt"),
+                    "-o", prague_db, "-q"], check=True)
+    straight_db = os.path.join(tmp.name, "straight.gpkg")
+    subprocess.run([BUILD, "--osm", os.path.join(DATA, "install_straight_road.osm"),
+                    "-o", straight_db, "-q"], check=True)
+
+
+def tearDownModule():
+    tmp.cleanup()
+
+
+def cli_json(*args, stdin=""):
+    out = subprocess.run([CLI, *[str(a) for a in args], "--json"], input=stdin,
+                         capture_output=True, text=True, check=True)
+    return json.loads(out.stdout)
+
+
+def cli_error(*args):
+    """The CLI's error message (stderr without the 'roadcross: ' prefix); it must fail."""
+    out = subprocess.run([CLI, *[str(a) for a in args]], capture_output=True, text=True)
+    assert out.returncode != 0, out
+    return out.stderr.strip().removeprefix("roadcross: ")
+
+
+def lat_lon_args(lat, lon):
+    return ["--lat", repr(lat), "--lon", repr(lon)]
+
+
+def road_fields(road):
+    return {"segment_id": road.segment_id, "osm_way_id": road.osm_way_id,
+            "highway": road.highway, "name": road.name, "distance_m": road.distance_m,
+            "query_utm_m": list(road.query), "closest_utm_m": list(road.closest)}
+
+
+@NEEDS_BUILD
+class AgreesWithCli(unittest.TestCase):
+    """Every field equals the CLI's --json output on the same map and position."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.map = roadcross.Map(prague_db)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.map.close()
+
+    def test_info(self):
+        expected = cli_json("info", prague_db)
+        info = self.map.info
+        self.assertEqual(info.path, expected["path"])
+        self.assertEqual(info.schema_version, expected["schema_version"])
+        self.assertEqual(info.tool_version, expected["tool_version"])
+        self.assertEqual(info.utm_zone, expected["utm_zone"])
+        self.assertEqual(info.utm_northern, expected["utm_northern"])
+        self.assertEqual(info.epsg, expected["epsg"])
+        self.assertEqual(info.segment_count, expected["segment_count"])
+        self.assertEqual(list(info.extent_utm_m), expected["extent_utm_m"])
+        self.assertEqual(info.metadata, expected["metadata"])
+        self.assertEqual(info.epsg, 32633)  # Prague is in UTM zone 33N
+
+    def test_nearest_and_heading(self):
+        for lat, lon in PRAGUE_POSITIONS:
+            with self.subTest(lat=lat, lon=lon):
+                expected = cli_json("nearest", "--db", prague_db, *lat_lon_args(lat, lon))
+                self.assertEqual(road_fields(self.map.nearest(lat=lat, lon=lon)), expected)
+                expected = cli_json("heading", "--db", prague_db, *lat_lon_args(lat, lon))
+                h = self.map.road_heading(lat=lat, lon=lon)
+                got = road_fields(h.road)
+                got.update(road_heading_rad=h.road_heading_rad,
+                           road_bearing_deg=h.road_bearing_deg,
+                           crossing_heading_rad=h.crossing_heading_rad,
+                           crossing_bearing_deg=h.crossing_bearing_deg,
+                           convergence_rad=h.convergence_rad, on_centreline=h.on_centreline)
+                self.assertEqual(got, expected)
+                self.assertEqual(h.distance_m, expected["distance_m"])
+
+    def assert_assessment(self, a, expected):
+        got = {}
+        for key in expected:
+            if key == "closest_utm_m":
+                got[key] = list(a.road.closest)
+            else:
+                got[key] = getattr(a, key)
+        self.assertEqual(got, expected)
+
+    def test_assess(self):
+        suitable = 0
+        for lat, lon in PRAGUE_POSITIONS:
+            with self.subTest(lat=lat, lon=lon):
+                expected = cli_json("assess", "--db", prague_db, *lat_lon_args(lat, lon))
+                a = self.map.assess(lat=lat, lon=lon)
+                self.assert_assessment(a, expected)
+                suitable += a.suitable
+                # Per-call thresholds reach the runtime the same way as the CLI's options.
+                expected = cli_json("assess", "--db", prague_db, *lat_lon_args(lat, lon),
+                                    "--threshold", "5", "--valid-distance", "3")
+                a = self.map.assess(lat=lat, lon=lon, threshold=5, valid_distance_m=3.0)
+                self.assert_assessment(a, expected)
+                self.assertEqual(a.threshold, 5.0)
+                self.assertEqual(a.valid_distance_m, 3.0)
+        # The sample positions include both answers (run-default.sh: Resslova no, Apolinarska yes).
+        self.assertFalse(self.map.assess(lat=50.075769, lon=14.416015).suitable)
+        self.assertTrue(self.map.assess(lat=50.071507, lon=14.42651).suitable)
+        self.assertGreater(suitable, 0)
+        self.assertLess(suitable, len(PRAGUE_POSITIONS))
+
+    def test_assess_by_utm_equals_by_wgs84(self):
+        for lat, lon in PRAGUE_POSITIONS:
+            with self.subTest(lat=lat, lon=lon):
+                e, n = self.map.to_utm(lat=lat, lon=lon)
+                expected = cli_json("assess", "--db", prague_db, "--utm", repr(e), repr(n))
+                self.assert_assessment(self.map.assess(easting=e, northing=n), expected)
+
+    def test_assess_segment_on_centreline(self):
+        a = self.map.assess(lat=50.071507, lon=14.42651)
+        s = self.map.assess_segment(a.segment_id)
+        self.assertEqual(s.distance_m, 0.0)
+        self.assertTrue(s.valid)
+        self.assertEqual((s.score, s.context_score, s.reasons), (a.score, a.context_score, a.reasons))
+
+    def test_better_place(self):
+        for lat, lon in PRAGUE_POSITIONS:
+            with self.subTest(lat=lat, lon=lon):
+                expected = cli_json("better", "--db", prague_db, *lat_lon_args(lat, lon),
+                                    "--radius", "150", "--max", "4")
+                places = self.map.better_place(lat=lat, lon=lon, search_radius_m=150,
+                                               max_candidates=4)
+                got = {"candidates": [
+                    {"point_utm_m": list(c.point), "walking_distance_m": c.walking_distance_m,
+                     "segment_id": c.segment_id, "suitable": c.suitable,
+                     "score_plus_context": c.score, "designated_crossing": c.designated_crossing,
+                     "crossing_heading_rad": c.crossing_heading_rad, "reasons": c.reasons}
+                    for c in places], "reason": places.reason}
+                self.assertEqual(got, expected)
+                self.assertEqual(len(places), len(expected["candidates"]))
+                self.assertLessEqual(len(places), 4)
+
+    def test_monitor(self):
+        lat, lon = PRAGUE_POSITIONS[1]
+        plan = self.map.plan_crossing(lat=lat, lon=lon)
+        # Poses: at the start, 0.8 m beside the line halfway, at the target.
+        sx, sy = plan.start
+        tx, ty = plan.target
+        poses = [(sx, sy, plan.heading_rad),
+                 ((sx + tx) / 2 - 0.8 * math.sin(plan.heading_rad),
+                  (sy + ty) / 2 + 0.8 * math.cos(plan.heading_rad), plan.heading_rad),
+                 (tx, ty, plan.heading_rad + 0.1)]
+        states = []
+        for x, y, yaw in poses:
+            expected = cli_json("monitor", "--db", prague_db, *lat_lon_args(lat, lon),
+                                "--at", repr(x), repr(y), "--yaw", repr(yaw))
+            p = roadcross.monitor(plan, easting=x, northing=y, yaw_rad=yaw)
+            got = {"state": p.state, "progress": p.progress,
+                   "lateral_deviation_m": p.lateral_deviation_m,
+                   "heading_error_rad": p.heading_error_rad,
+                   "plan_start_utm_m": list(plan.start), "plan_target_utm_m": list(plan.target),
+                   "plan_heading_rad": plan.heading_rad}
+            self.assertEqual(got, expected)
+            states.append(p.state)
+        self.assertEqual(states, ["ON_TRACK", "DRIFTING", "DONE"])
+
+    def gap_case(self, lat, lon, vehicles, policy):
+        """The same vehicles through the CLI (stdin JSON, now = 0) and the module."""
+        stdin = "\n".join(json.dumps(v) for v in vehicles)
+        expected = cli_json("gap", "--db", prague_db, *lat_lon_args(lat, lon),
+                            "--policy", policy, stdin=stdin)
+        crossing = self.map.gap_crossing(lat=lat, lon=lon)
+        tracked = [roadcross.Vehicle(east_m=v["east_m"], north_m=v["north_m"],
+                                     vx_mps=v["vx_mps"], vy_mps=v["vy_mps"],
+                                     time_s=-v.get("age_s", 0.0)) for v in vehicles]
+        decide = roadcross.gap_decision if policy == "ours" else roadcross.hcm_gap_decision
+        d = decide(crossing, tracked, now_s=0.0)
+        got = {"decision": d.verdict, "reason": d.reason, "limiting_vehicle": d.limiting_vehicle,
+               "limiting_line": d.limiting_vehicle + 1 if d.limiting_vehicle >= 0 else None,
+               "margin_s": d.margin_s, "earliest_start_in_s": d.earliest_start_s,
+               "crossing_time_s": d.crossing_time_s, "required_sight_m": d.required_sight_m,
+               "critical_gap_s": d.critical_gap_s, "vehicles_counted": d.vehicles_counted,
+               "stale_tracks": d.stale_tracks, "beyond_sensor_range": d.beyond_sensor_range,
+               "lanes": crossing.lanes, "road_width_m": crossing.road_width_m,
+               "maxspeed_kmh": crossing.maxspeed_kmh,
+               "crossing_heading_rad": crossing.heading_rad}
+        self.assertEqual(got, expected)
+        self.assertEqual(d.go, d.verdict == "GO")
+        return d
+
+    def test_gap_decision(self):
+        lat, lon = PRAGUE_POSITIONS[1]
+        heading = self.map.road_heading(lat=lat, lon=lon)
+        along_e, along_n = math.cos(heading.road_heading_rad), math.sin(heading.road_heading_rad)
+        # A car 30 m up the road coming at 12 m/s, one far away, one standing at the crossing,
+        # and a stale track (robot ENU ~ grid here: the convergence is under 0.01 rad).
+        near = {"east_m": 30 * along_e, "north_m": 30 * along_n,
+                "vx_mps": -12 * along_e, "vy_mps": -12 * along_n}
+        far = {"east_m": -150 * along_e, "north_m": -150 * along_n,
+               "vx_mps": 10 * along_e, "vy_mps": 10 * along_n}
+        stopped = {"east_m": 2 * math.cos(heading.crossing_heading_rad),
+                   "north_m": 2 * math.sin(heading.crossing_heading_rad),
+                   "vx_mps": 0.0, "vy_mps": 0.0}
+        stale = dict(far, age_s=2.0)
+        reasons = set()
+        for policy in ("ours", "hcm"):
+            for vehicles in ([], [far], [near], [near, far], [stopped], [stale]):
+                with self.subTest(policy=policy, vehicles=vehicles):
+                    reasons.add(self.gap_case(lat, lon, vehicles, policy).reason)
+        self.assertTrue({"CLEAR", "VEHICLE_CONFLICT", "BLOCKED", "STALE_TRACK"} <= reasons, reasons)
+
+    def test_errors_carry_the_runtimes_message(self):
+        missing = os.path.join(tmp.name, "no-such-map.gpkg")
+        with self.assertRaises(roadcross.MapNotFoundError) as caught:
+            roadcross.Map(missing)
+        self.assertEqual(str(caught.exception), cli_error("info", missing))
+        with self.assertRaises(roadcross.InvalidArgumentError) as caught:
+            self.map.assess(lat=float("nan"), lon=14.4)
+        self.assertEqual(str(caught.exception),
+                         cli_error("assess", "--db", prague_db, "--lat", "nan", "--lon", "14.4"))
+
+
+@NEEDS_BUILD
+class HandDerived(unittest.TestCase):
+    """One straight east-west road along lat 50.0 from lon 14.399 to 14.401 (about 143 m)."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.map = roadcross.Map(straight_db)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.map.close()
+
+    def test_500_m_from_the_road_is_not_valid(self):
+        # 500 m north of the road's middle: one degree of latitude is 111 229 m at 50 degrees
+        # (meridian arc), and the UTM zone 33 grid scale at lon 14.4 is 0.99966: about 499.8 m.
+        lat = 50.0 + 500.0 / 111229.0
+        a = self.map.assess(lat=lat, lon=14.4)
+        self.assertAlmostEqual(a.distance_m, 499.8, delta=1.0)
+        self.assertFalse(a.valid)
+        self.assertFalse(a.suitable)
+        self.assertIn("TOO_FAR_FROM_ROAD", a.reasons)
+        self.assertEqual(a.reasons[0], "TOO_FAR_FROM_ROAD")  # first, as documented
+        with self.assertRaises(roadcross.NoRoadError) as caught:
+            self.map.nearest(lat=lat, lon=14.4, max_distance_m=100.0)
+        self.assertIsInstance(caught.exception, LookupError)
+        self.assertEqual(caught.exception.code, "not_found")
+
+    def test_5_m_north_is_valid_and_faces_south(self):
+        lat = 50.0 + 5.0 / 111229.0
+        a = self.map.assess(lat=lat, lon=14.4)
+        self.assertAlmostEqual(a.distance_m, 5.0, delta=0.05)
+        self.assertTrue(a.valid)
+        self.assertEqual((a.highway, a.name), ("residential", "Test Street"))
+        h = self.map.road_heading(lat=lat, lon=14.4)
+        # Perpendicular: the crossing heading is the road heading minus a quarter turn (the
+        # robot is on the road's left, north side; the way is drawn eastwards).
+        diff = math.remainder(h.crossing_heading_rad - h.road_heading_rad, 2 * math.pi)
+        self.assertAlmostEqual(diff, -math.pi / 2, places=12)
+        # East in true terms; the grid yaw differs by the convergence (under 0.01 rad here).
+        self.assertAlmostEqual(h.road_heading_rad + h.convergence_rad, 0.0, delta=1e-3)
+        self.assertAlmostEqual(h.crossing_heading_rad, -math.pi / 2, delta=0.01)
+        self.assertAlmostEqual(h.crossing_bearing_deg,
+                               (90.0 - math.degrees(h.crossing_heading_rad)) % 360.0, places=9)
+        self.assertFalse(h.on_centreline)
+        # From the south side the crossing heading points north.
+        south = self.map.road_heading(lat=50.0 - 5.0 / 111229.0, lon=14.4)
+        self.assertAlmostEqual(south.crossing_heading_rad, h.crossing_heading_rad + math.pi,
+                               places=9)
+
+    def test_positions_in_utm_and_wgs84_agree(self):
+        e, n = self.map.to_utm(lat=50.0, lon=14.4)
+        # Hand-checked: zone 33 (central meridian 15 E), 0.6 degrees west: about 457 000 m E.
+        self.assertEqual(self.map.info.utm_zone, 33)
+        self.assertAlmostEqual(e, 457000, delta=500)
+        self.assertEqual(self.map.nearest(easting=e, northing=n).distance_m,
+                         self.map.nearest(lat=50.0, lon=14.4).distance_m)
+
+    def test_plan_and_monitor(self):
+        lat = 50.0 + 5.0 / 111229.0
+        plan = self.map.plan_crossing(lat=lat, lon=14.4)
+        # No width in the map: 6 m default, target 3 m + 0.5 m beyond the centreline.
+        self.assertEqual(plan.road_width_m, 6.0)
+        length = math.dist(tuple(plan.start), tuple(plan.target))
+        self.assertAlmostEqual(length, 5.0 + 3.5, delta=0.05)
+        p = roadcross.monitor(plan, easting=plan.start.easting_m, northing=plan.start.northing_m,
+                              yaw_rad=plan.heading_rad)
+        self.assertEqual((p.state, p.progress), ("ON_TRACK", 0.0))
+
+    def test_reprs_show_the_values(self):
+        lat = 50.0 + 5.0 / 111229.0
+        a = self.map.assess(lat=lat, lon=14.4)
+        self.assertEqual(repr(a), f"Assessment(valid=True, suitable={a.suitable}, "
+                         f"score={a.score!r}, context_score={a.context_score!r}, "
+                         f"distance_m={a.distance_m!r}, reasons={a.reasons!r})")
+        info = self.map.info
+        self.assertEqual(repr(info), f"MapInfo(path={straight_db!r}, schema_version="
+                         f"{info.schema_version}, utm_zone=33, segment_count={info.segment_count})")
+        p = a.road.closest
+        self.assertEqual(repr(p), f"PlanePoint(easting_m={p.easting_m!r}, northing_m={p.northing_m!r})")
+        for value in (self.map.road_heading(lat=lat, lon=14.4), self.map.nearest(lat=lat, lon=14.4),
+                      self.map.plan_crossing(lat=lat, lon=14.4),
+                      self.map.gap_crossing(lat=lat, lon=14.4),
+                      self.map.better_place(lat=lat, lon=14.4)):
+            self.assertTrue(repr(value).startswith(type(value).__name__ + "("), repr(value))
+        self.assertEqual(repr(self.map), f"roadcross.Map({straight_db!r})")
+
+    def test_gap_without_vehicles(self):
+        # No vehicle, residential road without tags: 2 lanes of 6 m at 50 km/h. Required sight
+        # (docs/runtime.md) is under the 200 m sensor range, so GO; with 50 m of range, WAIT.
+        crossing = self.map.gap_crossing(lat=50.0 + 5.0 / 111229.0, lon=14.4)
+        self.assertEqual((crossing.lanes, crossing.road_width_m, crossing.maxspeed_kmh),
+                         (2, 6.0, 50.0))
+        d = roadcross.gap_decision(crossing, [], now_s=10.0)
+        self.assertEqual((d.verdict, d.reason), ("GO", "CLEAR"))
+        d = roadcross.gap_decision(crossing, [], now_s=10.0, sensor_range_m=50.0)
+        self.assertEqual((d.verdict, d.reason), ("WAIT", "INSUFFICIENT_SIGHT"))
+        self.assertIsNone(d.earliest_start_s)
+
+
+class WithoutMap(unittest.TestCase):
+    """Errors and the pure computations: also in the runtime-only build."""
+
+    def test_missing_file(self):
+        path = os.path.join(tmp.name, "missing.gpkg")
+        with self.assertRaises(FileNotFoundError) as caught:
+            roadcross.Map(path)
+        self.assertIsInstance(caught.exception, roadcross.Error)
+        self.assertIsInstance(caught.exception, roadcross.MapNotFoundError)
+        self.assertEqual(caught.exception.code, "file_not_found")
+        self.assertIn(path, str(caught.exception))
+
+    def test_not_a_roadcross_map(self):
+        plain = os.path.join(tmp.name, "plain.sqlite")
+        with sqlite3.connect(plain) as db:
+            db.execute("CREATE TABLE t (x)")
+        text = os.path.join(tmp.name, "notes.txt")
+        with open(text, "w") as f:
+            f.write("not a database at all, " * 100)
+        for path in (plain, text):
+            with self.subTest(path=path):
+                with self.assertRaises(ValueError) as caught:
+                    roadcross.Map(path)
+                self.assertIsInstance(caught.exception, roadcross.NotARoadcrossMapError)
+                self.assertEqual(caught.exception.code, "not_a_database")
+                self.assertIn(path, str(caught.exception))
+                self.assertEqual(str(caught.exception), cli_error("info", path))
+
+    def test_path_like(self):
+        import pathlib
+        with self.assertRaises(roadcross.MapNotFoundError):
+            roadcross.Map(pathlib.Path(tmp.name) / "missing.gpkg")
+
+    def test_monitor_by_hand(self):
+        # From (0, 0) north to (0, 10): heading pi/2.
+        plan = roadcross.CrossingPlan(start=roadcross.PlanePoint(easting_m=0.0, northing_m=0.0),
+                                      target=roadcross.PlanePoint(easting_m=0.0, northing_m=10.0),
+                                      heading_rad=math.pi / 2, road_width_m=6.0)
+        p = roadcross.monitor(plan, easting=-0.8, northing=5.0, yaw_rad=math.pi / 2)
+        self.assertAlmostEqual(p.progress, 0.5, places=12)
+        self.assertAlmostEqual(p.lateral_deviation_m, 0.8, places=12)  # west = left of north
+        self.assertEqual(p.state, "DRIFTING")
+        p = roadcross.monitor(plan, easting=-0.8, northing=5.0, yaw_rad=math.pi / 2, drift_m=1.0)
+        self.assertEqual(p.state, "ON_TRACK")
+        self.assertEqual(roadcross.monitor(plan, easting=2.0, northing=5.0,
+                                           yaw_rad=math.pi / 2).state, "LEAVING_CORRIDOR")
+        with self.assertRaises(roadcross.InvalidArgumentError) as caught:
+            roadcross.monitor(plan, easting=float("nan"), northing=5.0, yaw_rad=0.0)
+        self.assertIsInstance(caught.exception, ValueError)
+        self.assertTrue(str(caught.exception))
+
+    def test_gap_by_hand(self):
+        # A 2-lane, 6 m road running east; the robot waits 3.5 m south of the centreline and
+        # crosses north at 1.2 m/s after 1 s: it clears the far lane (6.5 m + 0.4 m) at
+        # 1 + 6.9 / 1.2 = 6.75 s.
+        crossing = roadcross.GapCrossing(start=roadcross.PlanePoint(easting_m=0.0, northing_m=-3.5),
+                                         centre=roadcross.PlanePoint(easting_m=0.0, northing_m=0.0),
+                                         heading_rad=math.pi / 2, road_width_m=6.0, lanes=2,
+                                         maxspeed_kmh=50.0)
+        d = roadcross.gap_decision(crossing, [], now_s=0.0)
+        self.assertEqual((d.verdict, d.reason, d.limiting_vehicle), ("GO", "CLEAR", -1))
+        self.assertAlmostEqual(d.crossing_time_s, 1.0 + 6.9 / 1.2, places=9)
+        # A car standing on the crossing line blocks it.
+        car = roadcross.Vehicle(easting=0.0, northing=1.5, vx_mps=0.0, vy_mps=0.0)
+        d = roadcross.gap_decision(crossing, [car], now_s=0.0)
+        self.assertEqual((d.verdict, d.reason, d.limiting_vehicle), ("WAIT", "BLOCKED", 0))
+        # A track observed after now: the clocks disagree.
+        late = roadcross.Vehicle(easting=-50.0, northing=1.5, vx_mps=10.0, vy_mps=0.0, time_s=1.0)
+        with self.assertRaises(roadcross.InvalidArgumentError):
+            roadcross.gap_decision(crossing, [late], now_s=0.0)
+
+    def test_keyword_only_positions(self):
+        with self.assertRaises(TypeError):
+            roadcross.Vehicle(vx_mps=1.0, vy_mps=0.0)  # no position
+        with self.assertRaises(TypeError):
+            roadcross.Vehicle(easting=1.0, east_m=1.0, northing=0.0, vx_mps=1.0, vy_mps=0.0)
+
+    def test_describe_reason(self):
+        self.assertTrue(roadcross.describe_reason("SHARP_BEND"))
+        self.assertEqual(roadcross.__version__.count("."), 2)
+
+
+@NEEDS_BUILD
+class PositionArguments(unittest.TestCase):
+
+    def test_argument_errors(self):
+        with roadcross.Map(straight_db) as m:
+            info = m.info
+            road = m.assess(lat=50.0, lon=14.4).road
+            with self.assertRaises(TypeError):
+                m.assess()  # no position
+            with self.assertRaises(TypeError):
+                m.assess(lat=50.0)  # lat without lon
+            with self.assertRaises(TypeError):
+                m.assess(lat=50.0, lon=14.4, easting=457000.0, northing=5539000.0)
+            with self.assertRaises(TypeError):
+                m.assess(50.0, 14.4)  # positional: keyword-only
+            with self.assertRaises(roadcross.InvalidArgumentError) as caught:
+                m.assess(lat=91.0, lon=14.4)
+            self.assertEqual(caught.exception.code, "invalid_argument")
+            with self.assertRaises(roadcross.InvalidArgumentError):
+                m.nearest(lat=50.0, lon=14.4, max_distance_m=-1.0)
+        # The with block closed the map; values read before stay valid (they are copies).
+        self.assertTrue(m.closed)
+        self.assertEqual(info.utm_zone, 33)
+        self.assertEqual(info.path, straight_db)
+        self.assertEqual(road.highway, "residential")
+        with self.assertRaises(ValueError):
+            m.assess(lat=50.0, lon=14.4)
+
+
+@NEEDS_BUILD
+class DocExamples(unittest.TestCase):
+    """Each Python example in docs/embedding.md prints exactly the output shown after it."""
+
+    def test_examples(self):
+        source = os.path.join(os.path.dirname(__file__), "..", "..")
+        with open(os.path.join(source, "docs", "embedding.md")) as f:
+            blocks = re.findall(r"```(\w*)\n(.*?)```", f.read(), re.S)
+        # The examples run from the repository root with out/prague.gpkg (run-default.sh).
+        root = os.path.join(tmp.name, "doc-root")
+        os.makedirs(os.path.join(root, "out"), exist_ok=True)
+        if not os.path.exists(os.path.join(root, "out", "prague.gpkg")):
+            os.symlink(prague_db, os.path.join(root, "out", "prague.gpkg"))
+            shutil.copy(os.path.join(source, "README.md"), root)
+        examples = [(body, blocks[i + 1][1]) for i, (lang, body) in enumerate(blocks)
+                    if lang == "python"]
+        self.assertGreaterEqual(len(examples), 4)
+        for body, expected in examples:
+            with self.subTest(example=body.splitlines()[0]):
+                out = subprocess.run([sys.executable, "-c", body], cwd=root, capture_output=True,
+                                     text=True)
+                self.assertEqual(out.stderr, "")
+                self.assertEqual(out.stdout, expected)
+
+
+class Installed(unittest.TestCase):
+    """cmake --install puts the module under the prefix, importable with PYTHONPATH."""
+
+    def test_install_and_import(self):
+        with tempfile.TemporaryDirectory() as prefix:
+            subprocess.run([os.environ["CMAKE_COMMAND"], "--install",
+                            os.environ["ROADCROSS_BINARY_DIR"], "--prefix", prefix,
+                            "--component", "python"], check=True, capture_output=True)
+            found = [os.path.join(root, f) for root, _, files in os.walk(prefix) for f in files]
+            self.assertEqual(len(found), 1, found)
+            site = os.path.dirname(found[0])
+            self.assertRegex(site, r"/lib/python3\.\d+/(dist|site)-packages$")
+            probe = ("import roadcross, sys; print(roadcross.__file__); "
+                     "m = roadcross.Map(sys.argv[1]); a = m.assess(lat=50.0001, lon=14.4); "
+                     "print(a.valid, repr(a.distance_m))") if straight_db else (
+                     "import roadcross; print(roadcross.__file__)")
+            env = dict(os.environ, PYTHONPATH=site)
+            out = subprocess.run([sys.executable, "-c", probe, straight_db], env=env,
+                                 capture_output=True, text=True, check=True).stdout.split("\n")
+            self.assertTrue(out[0].startswith(site), out)
+            if straight_db:
+                with roadcross.Map(straight_db) as m:
+                    a = m.assess(lat=50.0001, lon=14.4)
+                self.assertEqual(out[1], f"{a.valid} {a.distance_m!r}")
+
+
+if __name__ == "__main__":
+    unittest.main()
