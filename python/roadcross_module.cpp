@@ -410,14 +410,19 @@ void bind_values(py::module_& m) {
   crossing
       .def(py::init([](PlanePoint start, PlanePoint centre, double heading_rad, double road_width_m,
                        int lanes, double maxspeed_kmh, double convergence_rad,
-                       std::optional<double> junction_distance_m) {
-             return GapCrossing{start, centre,       heading_rad,     road_width_m,
-                                lanes, maxspeed_kmh, convergence_rad, junction_distance_m};
+                       std::optional<double> junction_distance_m,
+                       std::optional<double> sight_forward_m,
+                       std::optional<double> sight_backward_m) {
+             return GapCrossing{
+                 start,           centre,          heading_rad,     road_width_m,
+                 lanes,           maxspeed_kmh,    convergence_rad, junction_distance_m,
+                 sight_forward_m, sight_backward_m};
            }),
            py::kw_only(), "start"_a, "centre"_a, "heading_rad"_a,
            "road_width_m"_a = GapCrossing{}.road_width_m, "lanes"_a = GapCrossing{}.lanes,
            "maxspeed_kmh"_a = GapCrossing{}.maxspeed_kmh, "convergence_rad"_a = 0.0,
-           "junction_distance_m"_a = py::none())
+           "junction_distance_m"_a = py::none(), "sight_forward_m"_a = py::none(),
+           "sight_backward_m"_a = py::none())
       .def_readonly("start", &GapCrossing::start, "where the robot waits")
       .def_readonly("centre", &GapCrossing::centre, "the centreline on the crossing line")
       .def_readonly("heading_rad", &GapCrossing::heading_rad, "ENU grid yaw across, radians")
@@ -426,7 +431,11 @@ void bind_values(py::module_& m) {
       .def_readonly("maxspeed_kmh", &GapCrossing::maxspeed_kmh, "km/h")
       .def_readonly("convergence_rad", &GapCrossing::convergence_rad, "radians")
       .def_readonly("junction_distance_m", &GapCrossing::junction_distance_m,
-                    "metres along the road to the nearest junction, or None");
+                    "metres along the road to the nearest junction, or None")
+      .def_readonly("sight_forward_m", &GapCrossing::sight_forward_m,
+                    "road visible in the OSM way's direction (the DB's sight), metres, or None")
+      .def_readonly("sight_backward_m", &GapCrossing::sight_backward_m,
+                    "road visible against the way's direction, metres, or None");
   add_repr(crossing, "GapCrossing",
            {"start", "heading_rad", "road_width_m", "lanes", "maxspeed_kmh"});
 
@@ -503,6 +512,8 @@ void bind_values(py::module_& m) {
                     "earliest GO time on the now_s clock, seconds, or None (never)")
       .def_readonly("crossing_time_s", &GapDecision::crossing_time_s, "seconds")
       .def_readonly("required_sight_m", &GapDecision::required_sight_m, "metres each way")
+      .def_readonly("visible_road_m", &GapDecision::visible_road_m,
+                    "road seen each way: sensor range cut by the sight distances, metres")
       .def_readonly("critical_gap_s", &GapDecision::critical_gap_s, "HCM t_c, seconds (HCM only)")
       .def_readonly("vehicles_counted", &GapDecision::vehicles_counted)
       .def_readonly("stale_tracks", &GapDecision::stale_tracks)

@@ -235,7 +235,7 @@ class AgreesWithCli(unittest.TestCase):
                "limiting_line": d.limiting_vehicle + 1 if d.limiting_vehicle >= 0 else None,
                "margin_s": d.margin_s, "earliest_start_in_s": d.earliest_start_s,
                "crossing_time_s": d.crossing_time_s, "required_sight_m": d.required_sight_m,
-               "critical_gap_s": d.critical_gap_s, "vehicles_counted": d.vehicles_counted,
+               "visible_road_m": d.visible_road_m, "critical_gap_s": d.critical_gap_s, "vehicles_counted": d.vehicles_counted,
                "stale_tracks": d.stale_tracks, "beyond_sensor_range": d.beyond_sensor_range,
                "lanes": crossing.lanes, "road_width_m": crossing.road_width_m,
                "maxspeed_kmh": crossing.maxspeed_kmh,
@@ -245,7 +245,10 @@ class AgreesWithCli(unittest.TestCase):
         return d
 
     def test_gap_decision(self):
-        lat, lon = PRAGUE_POSITIONS[1]
+        # Apolinarska, where the DB's sight distance (248 m / 300 m) covers the 200 m sensor
+        # range, so that the vehicles decide (10 m east, an SRTM bump cuts the view to 102 m:
+        # INSUFFICIENT_SIGHT whatever the traffic).
+        lat, lon = 50.071493, 14.426372
         heading = self.map.road_heading(lat=lat, lon=lon)
         along_e, along_n = math.cos(heading.road_heading_rad), math.sin(heading.road_heading_rad)
         # A car 30 m up the road coming at 12 m/s, one far away, one standing at the crossing,
@@ -441,6 +444,16 @@ class WithoutMap(unittest.TestCase):
         car = roadcross.Vehicle(easting=0.0, northing=1.5, vx_mps=0.0, vy_mps=0.0)
         d = roadcross.gap_decision(crossing, [car], now_s=0.0)
         self.assertEqual((d.verdict, d.reason, d.limiting_vehicle), ("WAIT", "BLOCKED", 0))
+        # The DB's sight: 100 m visible one way < the 16.667 m/s * (6.75 s + 1.2 s) + 0.9 m =
+        # 133.4 m an unseen car needs -> WAIT, though the sensor reaches 200 m.
+        hidden = roadcross.GapCrossing(start=crossing.start, centre=crossing.centre,
+                                       heading_rad=math.pi / 2, road_width_m=6.0, lanes=2,
+                                       maxspeed_kmh=50.0, sight_forward_m=300.0,
+                                       sight_backward_m=100.0)
+        d = roadcross.gap_decision(hidden, [], now_s=0.0)
+        self.assertEqual((d.verdict, d.reason), ("WAIT", "INSUFFICIENT_SIGHT"))
+        self.assertEqual(d.visible_road_m, 100.0)
+        self.assertAlmostEqual(d.required_sight_m, 50 / 3.6 * 1.2 * (6.75 + 1.2) + 0.9, places=9)
         # A track observed after now: the clocks disagree.
         late = roadcross.Vehicle(easting=-50.0, northing=1.5, vx_mps=10.0, vy_mps=0.0, time_s=1.0)
         with self.assertRaises(roadcross.InvalidArgumentError):
