@@ -45,7 +45,8 @@ std::string base_name(const std::string& path) {
 /// stored terrain grid. The grid covers the roads' box plus the largest TPI radius, and every
 /// sight line joins two points within half a road width of that box: the whole line is on it.
 std::vector<std::string> run_sight_stage(const BuildOptions& options, RoadGraph& graph,
-                                         const Grid* terrain, Progress& progress) {
+                                         const Grid* terrain, ObstacleReader& reader,
+                                         Progress& progress) {
   const SightParameters& p = options.parameters.sight;
   PlanePoint min{1e300, 1e300}, max{-1e300, -1e300};
   for (const Segment& s : graph.segments) {
@@ -55,8 +56,12 @@ std::vector<std::string> run_sight_stage(const BuildOptions& options, RoadGraph&
     }
   }
   constexpr double kReachM = 100.0;  // well beyond half of any carriageway's width
-  const Obstacles obstacles =
-      read_obstacles(options.osm_path, graph.zone, min, max, kReachM, p, progress);
+  progress.start_stage("buildings and walls");
+  const Obstacles obstacles = reader.take_edges(graph.zone, min, max, kReachM);
+  progress.finish_stage(std::to_string(obstacles.report.buildings) + " buildings, " +
+                        std::to_string(obstacles.report.walls) + " walls, " +
+                        std::to_string(obstacles.report.fences) + " fences, " +
+                        std::to_string(obstacles.report.edges) + " edges");
   progress.start_stage("sight distance");
   const SightReport report = compute_sight(graph, terrain, obstacles.edges, p);
   progress.finish_stage(std::to_string(report.segments) + " segments, " +
@@ -97,7 +102,11 @@ BuildSummary run_build(const BuildOptions& options) {
   AtomicOutput output(options.output_path);
   Progress progress(options.show_progress);
 
-  const RoadNetwork network = read_road_network(options.osm_path, progress);
+  // The sight stage's buildings and walls are read in the same two passes as the roads.
+  const bool with_sight = options.parameters.sight.enabled != 0.0;
+  ObstacleReader obstacle_reader(options.parameters.sight);
+  const RoadNetwork network =
+      read_road_network(options.osm_path, progress, with_sight ? &obstacle_reader : nullptr);
   const std::string osm_sha256 = sha256_of_file(options.osm_path);
 
   progress.start_stage("segmenting");
@@ -129,9 +138,9 @@ BuildSummary run_build(const BuildOptions& options) {
       compute_context(graph, network, options.parameters.context, options.country, overrides);
   progress.finish_stage(std::to_string(context.crossings.size()) + " crossings");
   std::vector<std::string> sight_notes;
-  if (options.parameters.sight.enabled != 0.0) {
-    sight_notes =
-        run_sight_stage(options, graph, has_elevation ? &terrain_grid : nullptr, progress);
+  if (with_sight) {
+    sight_notes = run_sight_stage(options, graph, has_elevation ? &terrain_grid : nullptr,
+                                  obstacle_reader, progress);
   }
   compute_ranks(graph, options.parameters.rank);
   apply_sight_rank_penalty(graph, options.parameters.sight);

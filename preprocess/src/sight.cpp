@@ -58,10 +58,10 @@ bool for_cells_along(const PlanePoint& a, const PlanePoint& b, double cell_m, Vi
   const double ax = a.x / cell_m, ay = a.y / cell_m, bx = b.x / cell_m, by = b.y / cell_m;
   const double y_min = std::min(ay, by), y_max = std::max(ay, by);
   const bool up = by >= ay, right = bx >= ax;
-  const auto first_row = static_cast<std::int64_t>(std::floor((up ? y_min : y_max) +
-                                                              (up ? -kSlack : kSlack)));
-  const auto last_row = static_cast<std::int64_t>(std::floor((up ? y_max : y_min) +
-                                                             (up ? kSlack : -kSlack)));
+  const auto first_row =
+      static_cast<std::int64_t>(std::floor((up ? y_min : y_max) + (up ? -kSlack : kSlack)));
+  const auto last_row =
+      static_cast<std::int64_t>(std::floor((up ? y_max : y_min) + (up ? kSlack : -kSlack)));
   const std::int64_t row_step = up ? 1 : -1;
   for (std::int64_t row = first_row;; row += row_step) {
     double x0 = std::min(ax, bx), x1 = std::max(ax, bx);
@@ -342,9 +342,8 @@ class Scene {
 
   /// The line passes through the opaque band of an obstacle edge it crosses in plan.
   bool obstacle_blocks(const Point3& eye, const Point3& target) const {
-    return grid_.any_along({eye.x, eye.y}, {target.x, target.y}, [&](std::uint32_t i) {
-      return edge_blocks(edges_[i], eye, target);
-    });
+    return grid_.any_along({eye.x, eye.y}, {target.x, target.y},
+                           [&](std::uint32_t i) { return edge_blocks(edges_[i], eye, target); });
   }
 
   bool edge_blocks(const ObstacleEdge& edge, const Point3& eye, const Point3& target) const {
