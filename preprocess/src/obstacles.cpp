@@ -8,6 +8,8 @@
 #include <osmium/osm/node.hpp>
 #include <osmium/osm/relation.hpp>
 #include <osmium/osm/way.hpp>
+#include <stdexcept>
+#include <thread>
 
 #include "roadcross/preprocess/sight.hpp"
 
@@ -91,9 +93,16 @@ void ObstacleReader::ways_done() {
   node_ids_.shrink_to_fit();
   // The references become positions in node_ids_ (half the size), read in place.
   ref_nodes_.resize(refs_.size());
+  // A building's nodes usually have consecutive ids: try the one after the previous first.
+  std::size_t at = 0;
   for (std::size_t i = 0; i < refs_.size(); ++i) {
-    ref_nodes_[i] = static_cast<std::uint32_t>(
-        std::lower_bound(node_ids_.begin(), node_ids_.end(), refs_[i]) - node_ids_.begin());
+    if (at + 1 < node_ids_.size() && node_ids_[at + 1] == refs_[i]) {
+      ++at;
+    } else if (node_ids_[at] != refs_[i]) {
+      at = static_cast<std::size_t>(std::lower_bound(node_ids_.begin(), node_ids_.end(), refs_[i]) -
+                                    node_ids_.begin());
+    }
+    ref_nodes_[i] = static_cast<std::uint32_t>(at);
   }
   std::vector<std::int64_t>().swap(refs_);
   nodes_.assign(node_ids_.size(), PlanePoint{NAN, NAN});
@@ -115,18 +124,39 @@ Obstacles ObstacleReader::take_edges(const geo::UtmZone& zone, const PlanePoint&
   // keeps both ends of long edges (a wall, a large hall) that reach the sight lines' area.
   constexpr double kLongEdgeM = 1000.0;
   const double node_reach_m = reach_m + kLongEdgeM;
-  for (PlanePoint& q : nodes_) {  // (lon, lat) -> UTM in place; NaN: missing or far
-    if (std::isnan(q.x)) continue;
-    const geo::UtmPoint u = geo::wgs84_to_utm(q.y, q.x, zone);
-    const bool kept = u.easting_m >= min.x - node_reach_m && u.easting_m <= max.x + node_reach_m &&
-                      u.northing_m >= min.y - node_reach_m && u.northing_m <= max.y + node_reach_m;
-    q = kept ? PlanePoint{u.easting_m, u.northing_m} : PlanePoint{NAN, NAN};
+  // (lon, lat) -> UTM in place, NaN when missing or far; on every core (the projection is most
+  // of this stage's time).
+  const auto project = [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      PlanePoint& q = nodes_[i];
+      if (std::isnan(q.x)) continue;
+      bool kept = false;
+      geo::UtmPoint u;
+      try {
+        u = geo::wgs84_to_utm(q.y, q.x, zone);
+        kept = u.easting_m >= min.x - node_reach_m && u.easting_m <= max.x + node_reach_m &&
+               u.northing_m >= min.y - node_reach_m && u.northing_m <= max.y + node_reach_m;
+      } catch (const std::invalid_argument&) {
+        // Too far from the roads' UTM zone to project: far from every road as well.
+      }
+      q = kept ? PlanePoint{u.easting_m, u.northing_m} : PlanePoint{NAN, NAN};
+    }
+  };
+  const std::size_t threads = std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1, 16);
+  std::vector<std::thread> pool;
+  const std::size_t chunk = (nodes_.size() + threads - 1) / threads;
+  for (std::size_t t = 1; t < threads; ++t) {
+    pool.emplace_back(project, std::min(nodes_.size(), t * chunk),
+                      std::min(nodes_.size(), (t + 1) * chunk));
   }
+  project(0, std::min(nodes_.size(), chunk));
+  for (std::thread& t : pool) t.join();
   // Only edges a sight line can meet: within reach of the roads' box.
   const auto near = [&](const PlanePoint& a, const PlanePoint& b) {
     return std::max(a.x, b.x) >= min.x - reach_m && std::min(a.x, b.x) <= max.x + reach_m &&
            std::max(a.y, b.y) >= min.y - reach_m && std::min(a.y, b.y) <= max.y + reach_m;
   };
+  out.edges.reserve(ref_nodes_.size() - ways_.size());  // at most: no doubling at the peak
   for (std::size_t w = 0; w < ways_.size(); ++w) {
     const std::size_t end = w + 1 < ways_.size() ? ways_[w + 1].first_ref : ref_nodes_.size();
     for (std::size_t i = ways_[w].first_ref + 1; i < end; ++i) {
