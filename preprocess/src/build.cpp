@@ -105,7 +105,7 @@ BuildSummary run_build(const BuildOptions& options) {
   // The sight stage's buildings and walls are read in the same two passes as the roads.
   const bool with_sight = options.parameters.sight.enabled != 0.0;
   ObstacleReader obstacle_reader(options.parameters.sight);
-  const RoadNetwork network =
+  RoadNetwork network =
       read_road_network(options.osm_path, progress, with_sight ? &obstacle_reader : nullptr);
   const std::string osm_sha256 = sha256_of_file(options.osm_path);
 
@@ -137,6 +137,11 @@ BuildSummary run_build(const BuildOptions& options) {
   const ContextReport context =
       compute_context(graph, network, options.parameters.context, options.country, overrides);
   progress.finish_stage(std::to_string(context.crossings.size()) + " crossings");
+  // The graph and the crossings hold what later stages need: the ways, their tags and the node
+  // locations are freed before the sight stage's obstacles and the writing add to the peak.
+  const std::size_t road_ways = network.ways.size();
+  const std::int64_t newest_timestamp_s = network.newest_timestamp_s;
+  network = RoadNetwork{};
   std::vector<std::string> sight_notes;
   if (with_sight) {
     sight_notes = run_sight_stage(options, graph, has_elevation ? &terrain_grid : nullptr,
@@ -148,7 +153,7 @@ BuildSummary run_build(const BuildOptions& options) {
   DatabaseContents contents;
   contents.graph = &graph;
   contents.crossings = &context.crossings;
-  contents.last_change = iso8601_utc(network.newest_timestamp_s);
+  contents.last_change = iso8601_utc(newest_timestamp_s);
   contents.metadata = options.parameters.as_metadata();
   contents.metadata.emplace_back(schema::meta::kToolVersion, options.tool_version);
   contents.metadata.emplace_back(schema::meta::kAttribution,
@@ -198,7 +203,7 @@ BuildSummary run_build(const BuildOptions& options) {
 
   BuildSummary summary;
   summary.zone = zone;
-  summary.road_ways = network.ways.size();
+  summary.road_ways = road_ways;
   summary.pieces = graph.pieces.size();
   summary.segments = graph.segments.size();
   for (const auto& [node, degree] : graph.degree) summary.junctions += degree >= 3 ? 1 : 0;
