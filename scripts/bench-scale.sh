@@ -2,8 +2,11 @@
 # Scale benchmark (issue 8): tiles the bundled Monaco extract (full OSM data: buildings,
 # footways, tunnels) 1x, 10x, 50x and 200x with fresh ids and a matching DEM mosaic, then times
 # `osmium tags-filter FILE w/highway` and roadcross-build (without and with the DEM) on each, in
-# the same run. Writes docs/scale.csv and docs/scale.png (gnuplot).
+# the same run, and the build without the sight stage (--sight.enabled 0). Writes docs/scale.csv
+# and docs/scale.png (gnuplot); prints each build's per-stage seconds and peak memory (--json)
+# and the load average.
 # Usage: scripts/bench-scale.sh [sizes="1 10 50 200"] [build-dir=build/release]
+# BENCH_DEM=0 skips the builds with the DEM (their columns stay empty).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 sizes=${1:-"1 10 50 200"}
@@ -14,27 +17,39 @@ for f in "$tool" "$make_tiled"; do [[ -x "$f" ]] || { echo "build $f first" >&2;
 work=${BENCH_WORK_DIR:-$(mktemp -d)}
 trap '[[ -z "${BENCH_WORK_DIR:-}" ]] && rm -rf "$work"' EXIT
 with_dem=0
-if "$tool" --help | grep -q -- '--elevation'; then with_dem=1; fi
+if [[ "${BENCH_DEM:-1}" != 0 ]] && "$tool" --help | grep -q -- '--elevation'; then with_dem=1; fi
 
-# measure LABEL CMD...: prints "seconds peak_kib" of one run.
+# measure CMD...: prints "seconds peak_kib" of one run; its stdout goes to $work/stdout.
 measure() {
-  /usr/bin/time -f '%e %M' -o "$work/time" "$@" >/dev/null 2>"$work/stderr" || { cat "$work/stderr" >&2; return 1; }
+  /usr/bin/time -f '%e %M' -o "$work/time" "$@" >"$work/stdout" 2>"$work/stderr" || { cat "$work/stderr" >&2; return 1; }
   cat "$work/time"
+}
+# stages LABEL: the per-stage lines of the --json summary in $work/stdout (to stderr).
+stages() {
+  python3 -c 'import json,sys
+d = json.load(open(sys.argv[1]))
+print("#   " + sys.argv[2] + ": " + "; ".join("%s %.2f s %.0f MiB" % (s["stage"], s["seconds"], s["peak_rss_mib"]) for s in d["stages"]))' "$work/stdout" "$1" >&2
 }
 
 echo "# machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(date -u +%F)"
-echo "copies,pbf_bytes,osmium_s,osmium_kib,build_s,build_kib,build_dem_s,build_dem_kib,segments" | tee "$work/scale.csv"
+echo "copies,pbf_bytes,osmium_s,osmium_kib,build_s,build_kib,build_dem_s,build_dem_kib,segments,no_sight_s,no_sight_kib" | tee "$work/scale.csv"
 for n in $sizes; do
   "$make_tiled" maps/monaco/monaco.osm.pbf "$n" "$work/m$n.osm.pbf" maps/monaco/N43E007.hgt "$work/m$n.tif" >/dev/null
   read -r osmium_s osmium_kib < <(measure osmium tags-filter "$work/m$n.osm.pbf" w/highway -o "$work/f.osm.pbf" --overwrite)
-  read -r build_s build_kib < <(measure "$tool" --osm "$work/m$n.osm.pbf" -o "$work/m$n.gpkg" -q)
+  echo "# $n copies, load average before: $(cut -d' ' -f1-3 /proc/loadavg)" >&2
+  read -r build_s build_kib < <(measure "$tool" --osm "$work/m$n.osm.pbf" -o "$work/m$n.gpkg" --json)
+  stages "build"
   segments=$(sqlite3 "$work/m$n.gpkg" "SELECT count(*) FROM segments")
+  read -r no_sight_s no_sight_kib < <(measure "$tool" --osm "$work/m$n.osm.pbf" -o "$work/m${n}ns.gpkg" --sight.enabled 0 --json)
+  stages "--sight.enabled 0"
   dem_s="" dem_kib=""
   if ((with_dem)); then
-    read -r dem_s dem_kib < <(measure "$tool" --osm "$work/m$n.osm.pbf" --elevation "$work/m$n.tif" -o "$work/m${n}dem.gpkg" -q)
+    read -r dem_s dem_kib < <(measure "$tool" --osm "$work/m$n.osm.pbf" --elevation "$work/m$n.tif" -o "$work/m${n}dem.gpkg" --json)
+    stages "--elevation"
   fi
-  echo "$n,$(stat -c %s "$work/m$n.osm.pbf"),$osmium_s,$osmium_kib,$build_s,$build_kib,$dem_s,$dem_kib,$segments" | tee -a "$work/scale.csv"
-  rm -f "$work/m$n.gpkg" "$work/m${n}dem.gpkg"
+  echo "# load average after: $(cut -d' ' -f1-3 /proc/loadavg)" >&2
+  echo "$n,$(stat -c %s "$work/m$n.osm.pbf"),$osmium_s,$osmium_kib,$build_s,$build_kib,$dem_s,$dem_kib,$segments,$no_sight_s,$no_sight_kib" | tee -a "$work/scale.csv"
+  rm -f "$work/m$n.gpkg" "$work/m${n}dem.gpkg" "$work/m${n}ns.gpkg"
 done
 cp "$work/scale.csv" docs/scale.csv
 if command -v gnuplot >/dev/null; then
@@ -49,10 +64,12 @@ set xlabel "copies of the Monaco extract"
 set ylabel "wall time, s"
 set grid
 plot "docs/scale.csv" using 1:5 with linespoints title "roadcross-build", \
+     "" using 1:10 with linespoints title "roadcross-build --sight.enabled 0", \
      "" using 1:3 with linespoints title "osmium tags-filter w/highway", \
      "" using 1:7 with linespoints title "roadcross-build --elevation"
 set ylabel "peak RSS, MiB"
 plot "docs/scale.csv" using 1:(\$6/1024) with linespoints title "roadcross-build", \
+     "" using 1:(\$11/1024) with linespoints title "roadcross-build --sight.enabled 0", \
      "" using 1:(\$4/1024) with linespoints title "osmium tags-filter", \
      "" using 1:(\$8/1024) with linespoints title "roadcross-build --elevation"
 unset multiplot

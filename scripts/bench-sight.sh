@@ -18,7 +18,7 @@ with=() without=() stage=()
 for ((i = 0; i < runs; i++)); do
   "$tool" "${args[@]}" >"$out/with.json"
   with+=("$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["seconds"])' "$out/with.json")")
-  stage+=("$(python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); print(sum(s["seconds"] for s in d["stages"] if s["stage"] in ("sight distance", "reading buildings and walls")))' "$out/with.json")")
+  stage+=("$(python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); print(sum(s["seconds"] for s in d["stages"] if s["stage"] in ("sight distance", "buildings and walls")))' "$out/with.json")")
   "$tool" "${args[@]}" --sight.enabled 0 >"$out/without.json"
   without+=("$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["seconds"])' "$out/without.json")")
 done
@@ -28,4 +28,4 @@ printf 'build with the sight stage     %8.2f s (median of %d)\n' "$w" "$runs"
 printf 'build without (--sight.enabled 0) %5.2f s\n' "$wo"
 printf 'sight stages (obstacles + sight) %6.2f s\n' "$s"
 printf 'ratio with / without           %8.2f\n' "$(echo "$w / $wo" | bc -l)"
-python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); [print("  " + s["stage"] + ": " + s["summary"]) for s in d["stages"] if s["stage"] in ("sight distance", "reading buildings and walls")]' "$out/with.json"
+python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); [print("  " + s["stage"] + ": " + s["summary"]) for s in d["stages"] if s["stage"] in ("sight distance", "buildings and walls")]' "$out/with.json"

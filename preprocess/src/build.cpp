@@ -45,7 +45,8 @@ std::string base_name(const std::string& path) {
 /// stored terrain grid. The grid covers the roads' box plus the largest TPI radius, and every
 /// sight line joins two points within half a road width of that box: the whole line is on it.
 std::vector<std::string> run_sight_stage(const BuildOptions& options, RoadGraph& graph,
-                                         const Grid* terrain, Progress& progress) {
+                                         const Grid* terrain, ObstacleReader& reader,
+                                         Progress& progress) {
   const SightParameters& p = options.parameters.sight;
   PlanePoint min{1e300, 1e300}, max{-1e300, -1e300};
   for (const Segment& s : graph.segments) {
@@ -55,8 +56,12 @@ std::vector<std::string> run_sight_stage(const BuildOptions& options, RoadGraph&
     }
   }
   constexpr double kReachM = 100.0;  // well beyond half of any carriageway's width
-  const Obstacles obstacles =
-      read_obstacles(options.osm_path, graph.zone, min, max, kReachM, p, progress);
+  progress.start_stage("buildings and walls");
+  const Obstacles obstacles = reader.take_edges(graph.zone, min, max, kReachM);
+  progress.finish_stage(std::to_string(obstacles.report.buildings) + " buildings, " +
+                        std::to_string(obstacles.report.walls) + " walls, " +
+                        std::to_string(obstacles.report.fences) + " fences, " +
+                        std::to_string(obstacles.report.edges) + " edges");
   progress.start_stage("sight distance");
   const SightReport report = compute_sight(graph, terrain, obstacles.edges, p);
   progress.finish_stage(std::to_string(report.segments) + " segments, " +
@@ -97,7 +102,11 @@ BuildSummary run_build(const BuildOptions& options) {
   AtomicOutput output(options.output_path);
   Progress progress(options.show_progress);
 
-  const RoadNetwork network = read_road_network(options.osm_path, progress);
+  // The sight stage's buildings and walls are read in the same two passes as the roads.
+  const bool with_sight = options.parameters.sight.enabled != 0.0;
+  ObstacleReader obstacle_reader(options.parameters.sight);
+  RoadNetwork network =
+      read_road_network(options.osm_path, progress, with_sight ? &obstacle_reader : nullptr);
   const std::string osm_sha256 = sha256_of_file(options.osm_path);
 
   progress.start_stage("segmenting");
@@ -128,10 +137,15 @@ BuildSummary run_build(const BuildOptions& options) {
   const ContextReport context =
       compute_context(graph, network, options.parameters.context, options.country, overrides);
   progress.finish_stage(std::to_string(context.crossings.size()) + " crossings");
+  // The graph and the crossings hold what later stages need: the ways, their tags and the node
+  // locations are freed before the sight stage's obstacles and the writing add to the peak.
+  const std::size_t road_ways = network.ways.size();
+  const std::int64_t newest_timestamp_s = network.newest_timestamp_s;
+  network = RoadNetwork{};
   std::vector<std::string> sight_notes;
-  if (options.parameters.sight.enabled != 0.0) {
-    sight_notes =
-        run_sight_stage(options, graph, has_elevation ? &terrain_grid : nullptr, progress);
+  if (with_sight) {
+    sight_notes = run_sight_stage(options, graph, has_elevation ? &terrain_grid : nullptr,
+                                  obstacle_reader, progress);
   }
   compute_ranks(graph, options.parameters.rank);
   apply_sight_rank_penalty(graph, options.parameters.sight);
@@ -139,7 +153,7 @@ BuildSummary run_build(const BuildOptions& options) {
   DatabaseContents contents;
   contents.graph = &graph;
   contents.crossings = &context.crossings;
-  contents.last_change = iso8601_utc(network.newest_timestamp_s);
+  contents.last_change = iso8601_utc(newest_timestamp_s);
   contents.metadata = options.parameters.as_metadata();
   contents.metadata.emplace_back(schema::meta::kToolVersion, options.tool_version);
   contents.metadata.emplace_back(schema::meta::kAttribution,
@@ -189,7 +203,7 @@ BuildSummary run_build(const BuildOptions& options) {
 
   BuildSummary summary;
   summary.zone = zone;
-  summary.road_ways = network.ways.size();
+  summary.road_ways = road_ways;
   summary.pieces = graph.pieces.size();
   summary.segments = graph.segments.size();
   for (const auto& [node, degree] : graph.degree) summary.junctions += degree >= 3 ? 1 : 0;

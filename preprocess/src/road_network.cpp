@@ -7,9 +7,8 @@
 #include <cerrno>
 #include <cstring>
 #include <osmium/handler.hpp>
-#include <osmium/io/any_input.hpp>
-#include <osmium/visitor.hpp>
 
+#include "osm_pass.hpp"
 #include "roadcross/preprocess/errors.hpp"
 #include "roadcross/preprocess/progress.hpp"
 
@@ -143,16 +142,25 @@ class NodeLocationCollector : public osmium::handler::Handler {
   const std::vector<std::int64_t>& crossing_only_;
 };
 
+/// Hands the objects of the passes to an ExtraOsmReader.
+class ExtraHandler : public osmium::handler::Handler {
+ public:
+  explicit ExtraHandler(ExtraOsmReader& reader) : reader_(reader) {}
+  void way(const osmium::Way& way) { reader_.way(way); }
+  void relation(const osmium::Relation& relation) { reader_.relation(relation); }
+  void node(const osmium::Node& node) { reader_.node(node); }
+
+ private:
+  ExtraOsmReader& reader_;
+};
+
+/// One pass with the road network's handler and, when there is one, the extra reader's.
 template <typename Handler>
 void read_pass(const std::string& path, osmium::osm_entity_bits::type entities, Handler& handler,
-               Progress& progress) {
-  osmium::io::Reader reader{osmium::io::File{path}, entities};
-  const std::uint64_t size = reader.file_size();
-  while (osmium::memory::Buffer buffer = reader.read()) {
-    osmium::apply(buffer, handler);
-    progress.update(reader.offset(), size);
-  }
-  reader.close();
+               ExtraOsmReader* extra, Progress& progress) {
+  if (!extra) return read_osm_pass(path, entities, progress, handler);
+  ExtraHandler extra_handler(*extra);
+  read_osm_pass(path, entities, progress, handler, extra_handler);
 }
 
 void check_readable(const std::string& path) {
@@ -174,14 +182,18 @@ void sort_by_id_unique(std::vector<T>& items) {
 
 }  // namespace
 
-RoadNetwork read_road_network(const std::string& path, Progress& progress) {
+RoadNetwork read_road_network(const std::string& path, Progress& progress, ExtraOsmReader* extra) {
   check_readable(path);
   RoadNetwork network;
   network.source_path = path;
   try {
     progress.start_stage("reading road ways", "MB");
     RoadWayCollector ways(network);
-    read_pass(path, osmium::osm_entity_bits::way, ways, progress);
+    const auto first_pass = extra && extra->wants_relations()
+                                ? osmium::osm_entity_bits::way | osmium::osm_entity_bits::relation
+                                : osmium::osm_entity_bits::way;
+    read_pass(path, first_pass, ways, extra, progress);
+    if (extra) extra->ways_done();
     sort_by_id_unique(network.ways);
     sort_by_id_unique(network.crossing_ways);
     progress.finish_stage(std::to_string(network.ways.size()) + " road ways of " +
@@ -206,7 +218,7 @@ RoadNetwork read_road_network(const std::string& path, Progress& progress) {
 
     progress.start_stage("reading node locations", "MB");
     NodeLocationCollector nodes(network, wanted, crossing_only);
-    read_pass(path, osmium::osm_entity_bits::node, nodes, progress);
+    read_pass(path, osmium::osm_entity_bits::node, nodes, extra, progress);
     sort_by_id_unique(network.locations);
     sort_by_id_unique(network.crossing_way_locations);
     sort_by_id_unique(network.tagged_nodes);

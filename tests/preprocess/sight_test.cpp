@@ -5,6 +5,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <functional>
@@ -131,6 +132,30 @@ TEST(Sight, WallAcrossTheRoadCutsTheViewAndALowOneDoesNot) {
   rp::RoadGraph pillars = graph_of({{-1000, 0}, {1000, 0}}, 20.0);
   rp::compute_sight(pillars, nullptr, {edge(110, -20, 110, 20, 20.0, 4.0)}, p);
   EXPECT_FLOAT_EQ(*segment_at(pillars, 10, 0).sight_forward_m, 300.0f);
+}
+
+TEST(Sight, WallsOnGridCellBoundariesAndALongDiagonalWall) {
+  // The sight stage buckets edges in 16 m cells; kE0 and kN0 are multiples of 16, so these
+  // walls lie exactly on cell boundaries, where a rounding slip would lose them.
+  const rp::SightParameters p;
+  // A wall across an east-west road at x = 112 (a column boundary): the view from the segment
+  // at x = 10 ends 102 m east.
+  rp::RoadGraph east = graph_of({{-1000, 0}, {1000, 0}}, 20.0);
+  rp::compute_sight(east, nullptr, {edge(112, -20, 112, 20, 3.0)}, p);
+  EXPECT_NEAR(*segment_at(east, 10, 0).sight_forward_m, 102.0, 0.1);
+  EXPECT_FLOAT_EQ(*segment_at(east, 10, 0).sight_backward_m, 300.0f);
+  // A wall across a north-south road at y = 112 (a row boundary): 102 m north of y = 10.
+  rp::RoadGraph north = graph_of({{0, -1000}, {0, 1000}}, 20.0);
+  rp::compute_sight(north, nullptr, {edge(-20, 112, 20, 112, 3.0)}, p);
+  const rp::Segment& n = segment_at(north, 0, 10);
+  EXPECT_NEAR(std::min(*n.sight_forward_m, *n.sight_backward_m), 102.0, 0.1);
+  EXPECT_FLOAT_EQ(std::max(*n.sight_forward_m, *n.sight_backward_m), 300.0f);
+  // A 1 km wall crossing the road obliquely (x = 110 + 0.1 y, through ~60 rows of cells). By
+  // hand, from either kerb (y = +-3, x = 10) the line to a vehicle at (X, 0) meets the wall
+  // before the vehicle exactly when X >= 110: the view ends 100 m east.
+  rp::RoadGraph oblique = graph_of({{-1000, 0}, {1000, 0}}, 20.0);
+  rp::compute_sight(oblique, nullptr, {edge(60, -500, 160, 500, 3.0)}, p);
+  EXPECT_NEAR(*segment_at(oblique, 10, 0).sight_forward_m, 100.0, 0.1);
 }
 
 TEST(Sight, LShapedRoadWithABuildingInTheCorner) {

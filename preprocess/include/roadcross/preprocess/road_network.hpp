@@ -8,6 +8,12 @@
 #include <utility>
 #include <vector>
 
+namespace osmium {
+class Node;
+class Relation;
+class Way;
+}  // namespace osmium
+
 namespace roadcross::preprocess {
 
 class Progress;
@@ -69,10 +75,29 @@ struct RoadNetwork {
   const NodeLocation* find_location(std::int64_t node_id) const noexcept;
 };
 
+/// Something else read in the same two passes over the file as the road network (the sight
+/// stage's buildings and walls), so that the file is decoded twice and not four times.
+class ExtraOsmReader {
+ public:
+  virtual ~ExtraOsmReader() = default;
+  /// First pass: every way of the file.
+  virtual void way(const osmium::Way& way) = 0;
+  /// First pass: every relation, only when wants_relations() (relations are at the end of a
+  /// file: reading them decodes the whole file in the first pass).
+  virtual void relation(const osmium::Relation& /*relation*/) {}
+  virtual bool wants_relations() const { return false; }
+  /// Between the passes: e.g. sort the node ids the second pass must find.
+  virtual void ways_done() {}
+  /// Second pass: every node of the file.
+  virtual void node(const osmium::Node& node) = 0;
+};
+
 /// Reads an .osm, .osm.gz, .osm.bz2 or .osm.pbf file in two passes: road ways first, then only
 /// the node locations those ways use, so memory follows the road network and not the file.
-/// Throws InputError naming the file (and the line for XML) on missing, empty, truncated or
-/// malformed input, or when the file holds no road of a kept class.
-RoadNetwork read_road_network(const std::string& path, Progress& progress);
+/// `extra` (may be null) sees the same passes. Throws InputError naming the file (and the line
+/// for XML) on missing, empty, truncated or malformed input, or when the file holds no road of
+/// a kept class.
+RoadNetwork read_road_network(const std::string& path, Progress& progress,
+                              ExtraOsmReader* extra = nullptr);
 
 }  // namespace roadcross::preprocess

@@ -13,6 +13,7 @@
 
 #include "roadcross/geo.hpp"
 #include "roadcross/preprocess/parameter_spec.hpp"
+#include "roadcross/preprocess/road_network.hpp"
 #include "roadcross/preprocess/segments.hpp"
 #include "roadcross/preprocess/terrain_grid.hpp"
 
@@ -67,13 +68,36 @@ struct Obstacles {
 double parse_height_m(std::string_view text) noexcept;
 
 /// Reads building footprints (closed ways with building=*, except roof and no) and
-/// barrier=wall/fence ways from the OSM file in two passes of its own (ways, then the nodes
-/// they use), keeping only edges that come within `reach_m` of the box [min, max] (UTM). Node
-/// locations are kept only within 1 km beyond that; the ways' node references are held for the
-/// whole file (8 bytes each: about 50 bytes a building).
-Obstacles read_obstacles(const std::string& osm_path, const geo::UtmZone& zone,
-                         const PlanePoint& min, const PlanePoint& max, double reach_m,
-                         const SightParameters& parameters, Progress& progress);
+/// barrier=wall/fence ways in the road network's two passes: give it to read_road_network().
+/// Holds per obstacle way 16 bytes, per node reference 4 and per obstacle node 24 (id and
+/// location) until take_edges().
+class ObstacleReader final : public ExtraOsmReader {
+ public:
+  explicit ObstacleReader(const SightParameters& parameters) : p_(parameters) {}
+  void way(const osmium::Way& way) override;
+  void relation(const osmium::Relation& relation) override;
+  bool wants_relations() const override { return true; }
+  void ways_done() override;
+  void node(const osmium::Node& node) override;
+
+  /// The edges that come within `reach_m` of the box [min, max] (UTM, zone `zone`); nodes more
+  /// than 1 km beyond that are dropped with their edges. Frees what was read.
+  Obstacles take_edges(const geo::UtmZone& zone, const PlanePoint& min, const PlanePoint& max,
+                       double reach_m);
+
+ private:
+  struct Way {
+    std::size_t first_ref = 0;  ///< its first node reference in ref_nodes_
+    float bottom_m = 0.0f, top_m = 0.0f;
+  };
+  const SightParameters& p_;
+  ObstacleReport report_;
+  std::vector<Way> ways_;
+  std::vector<std::int64_t> refs_;        ///< node ids of ways_ (first pass only)
+  std::vector<std::uint32_t> ref_nodes_;  ///< the same as positions in node_ids_
+  std::vector<std::int64_t> node_ids_;    ///< sorted, unique
+  std::vector<PlanePoint> nodes_;         ///< (lon, lat) of node_ids_, NaN when not in the file
+};
 
 struct SightReport {
   std::size_t segments = 0;         ///< segments with a sight distance
