@@ -488,10 +488,36 @@ def main():
     check(PROCESSES[-1][0].poll() is None, "roslaunch and the node are still running")
 
 
+def installed_package():
+    """`cmake --install --component ros` lays out a prefix in which roslaunch finds the node,
+    the launch file and the Python messages, as in the build tree's devel space."""
+    prefix = os.path.join(WORK, "prefix")
+    subprocess.run([ENV["CMAKE_COMMAND"], "--install", ENV["ROADCROSS_BINARY_DIR"], "--component",
+                    "ros", "--prefix", prefix], check=True, capture_output=True)
+    env = dict(ENV, CMAKE_PREFIX_PATH=prefix, ROS_PACKAGE_PATH=os.path.join(prefix, "share"),
+               PYTHONPATH=os.path.join(prefix, "lib", "python3", "dist-packages"),
+               ROS_HOME=os.path.join(WORK, "ros_home"))
+    probe = ("import roslib.packages\n"
+             "from roadcross_ros.srv import GapDecision\n"
+             "print(roslib.packages.find_node('roadcross_ros', 'roadcross_node')[0])\n")
+    res = subprocess.run(["/usr/bin/python3", "-c", probe], env=env, capture_output=True,
+                         text=True)
+    node = os.path.join(prefix, "lib", "roadcross_ros", "roadcross_node")
+    check(res.returncode == 0 and res.stdout.strip() == node and os.access(node, os.X_OK),
+          f"installed: roslaunch finds {res.stdout.strip() or res.stderr.strip()}")
+    res = subprocess.run(["roslaunch", "--nodes", "roadcross_ros", "roadcross.launch", "db:=x"],
+                         env=env, capture_output=True, text=True)
+    check(res.returncode == 0 and res.stdout.strip() == "/roadcross",
+          "installed: the launch file parses and names the node /roadcross")
+    check(os.path.exists(os.path.join(prefix, "include", "roadcross_ros", "GapDecision.h")),
+          "installed: C++ message headers")
+
+
 if __name__ == "__main__":
     status = 0
     try:
         main()
+        installed_package()
     except Exception as e:  # report, then clean up
         import traceback
         traceback.print_exc()
