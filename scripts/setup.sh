@@ -20,6 +20,13 @@ packages=(
   osmium-tool gdal-bin sqlite3 time bc gnuplot-nox
   # the viewer's test loads the page in headless Chromium
   chromium
+  # ROS1 node (ros/): roscpp, the message packages it uses (headers and .msg definitions),
+  # gencpp/genpy to generate the node's C++ and Python messages, and for its test rosmaster,
+  # roslaunch and rospy with the Python sensor/geometry messages
+  libroscpp-dev libstd-msgs-dev libsensor-msgs-dev libgeometry-msgs-dev libnav-msgs-dev
+  ros-std-msgs ros-geometry-msgs python3-gencpp python3-genpy python3-genmsg python3-rosmaster
+  python3-roslaunch python3-rosparam python3-rospy python3-rosservice python3-std-msgs
+  python3-sensor-msgs python3-geometry-msgs python3-nav-msgs
 )
 
 missing=()

@@ -289,6 +289,21 @@ Result<GapDecision> gap_decision(const GapCrossing& crossing, const RobotMotion&
   return {Status{}, d};
 }
 
+Result<GapDecision> gap_decision(const GapCrossing& crossing, const RobotMotion& robot,
+                                 const TrackedVehicle* vehicles, std::size_t vehicle_count,
+                                 double now_s, const GapOptions& options) noexcept {
+  return gap_decision(crossing, robot, std::span<const TrackedVehicle>(vehicles, vehicle_count),
+                      now_s, options);
+}
+
+Result<GapDecision> hcm_gap_decision(const GapCrossing& crossing, const RobotMotion& robot,
+                                     const TrackedVehicle* vehicles, std::size_t vehicle_count,
+                                     double now_s, const GapOptions& options,
+                                     const HcmOptions& hcm) noexcept {
+  return hcm_gap_decision(crossing, robot, std::span<const TrackedVehicle>(vehicles, vehicle_count),
+                          now_s, options, hcm);
+}
+
 double hcm_critical_gap_s(double crossing_length_m, double speed_mps,
                           double start_clearance_s) noexcept {
   return crossing_length_m / speed_mps + start_clearance_s;

@@ -10,8 +10,11 @@
 // and above. Pure computation: no DB access, noexcept.
 #pragma once
 
+#include <cstddef>
 #include <optional>
+#if __cplusplus >= 202002L
 #include <span>
+#endif
 
 #include "roadcross/monitor.hpp"
 #include "roadcross/runtime.hpp"
@@ -118,9 +121,16 @@ struct GapDecision {
 /// it from which a turning vehicle could arrive too soon). invalid_argument for NaN/infinite input,
 /// a non-positive speed or length, a negative start-up time, a timestamp after now_s, or bad
 /// options.
+#if __cplusplus >= 202002L
 Result<GapDecision> gap_decision(const GapCrossing& crossing, const RobotMotion& robot,
                                  std::span<const TrackedVehicle> vehicles, double now_s,
                                  const GapOptions& options = {}) noexcept;
+#endif
+/// The same for C++17 callers (ROS1 nodes): `vehicle_count` vehicles from `vehicles` (which may
+/// be null when the count is 0).
+Result<GapDecision> gap_decision(const GapCrossing& crossing, const RobotMotion& robot,
+                                 const TrackedVehicle* vehicles, std::size_t vehicle_count,
+                                 double now_s, const GapOptions& options = {}) noexcept;
 
 /// HCM 2010 pedestrian critical gap: t_c = L / S_p + t_s (crossing length = road width, the
 /// robot's speed, start-up and clearance time).
@@ -133,9 +143,16 @@ double hcm_critical_gap_s(double crossing_length_m, double speed_mps,
 /// The HCM reference policy: GO when no vehicle is in the crossing and the next one (any lane,
 /// at its measured speed) reaches it no sooner than t_c from now. No sight-distance or stale-track
 /// rule: that is the classic method. Same input checks as gap_decision.
+#if __cplusplus >= 202002L
 Result<GapDecision> hcm_gap_decision(const GapCrossing& crossing, const RobotMotion& robot,
                                      std::span<const TrackedVehicle> vehicles, double now_s,
                                      const GapOptions& options = {},
+                                     const HcmOptions& hcm = {}) noexcept;
+#endif
+/// The same for C++17 callers.
+Result<GapDecision> hcm_gap_decision(const GapCrossing& crossing, const RobotMotion& robot,
+                                     const TrackedVehicle* vehicles, std::size_t vehicle_count,
+                                     double now_s, const GapOptions& options = {},
                                      const HcmOptions& hcm = {}) noexcept;
 
 /// How far along the road the robot can see at a place: the sensor range, cut by the DB's

@@ -37,7 +37,12 @@ struct UtmZone {
   int zone = 0;          ///< 1..60
   bool northern = true;  ///< hemisphere
   int epsg() const noexcept { return (northern ? 32600 : 32700) + zone; }
-  bool operator==(const UtmZone&) const = default;
+  // Written out rather than defaulted so that the public headers stay C++17: ROS1 code builds
+  // as C++17 (its message headers use std::allocator<void>::rebind, gone in C++20).
+  bool operator==(const UtmZone& other) const noexcept {
+    return zone == other.zone && northern == other.northern;
+  }
+  bool operator!=(const UtmZone& other) const noexcept { return !(*this == other); }
 };
 
 struct UtmPoint {
