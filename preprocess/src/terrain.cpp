@@ -56,6 +56,8 @@ void TerrainParameters::describe(std::vector<ParameterSpec>& out) {
                  "large TPI annulus: outer radius, metres"});
   out.push_back({s, "tpi_min_valid_fraction", &tpi_min_valid_fraction, 0.01, 1, false,
                  "TPI only where at least this share of the annulus has elevation"});
+  out.push_back({s, "tpi_statistics_step_m", &tpi_statistics_step_m, 0.5, 10000, false,
+                 "TPI mean and SD from the cells of a lattice this far apart, metres"});
   out.push_back({s, "standard_deviations", &standard_deviations, 0.1, 10, false,
                  "standardised TPI beyond +-this is high/low (Weiss 2001: 1)"});
   out.push_back({s, "tpi_small_min_sd_m", &tpi_small_min_sd_m, 0.01, 1000, false,
@@ -90,68 +92,65 @@ void TerrainParameters::validate_relations() const {
   }
 }
 
-Grid slope_degrees(const Grid& elevation) {
+float slope_at(const Grid& elevation, std::size_t col, std::size_t row) {
   const GridSpec& s = elevation.spec;
-  Grid slope(s);
-  if (s.cols < 3 || s.rows < 3) return slope;
-  for (std::size_t row = 1; row + 1 < s.rows; ++row) {
-    for (std::size_t col = 1; col + 1 < s.cols; ++col) {
-      // Horn (1981): rows south to north, so "north" is row + 1.
-      const double a = elevation.at(col - 1, row + 1), b = elevation.at(col, row + 1),
-                   c = elevation.at(col + 1, row + 1);
-      const double d = elevation.at(col - 1, row), f = elevation.at(col + 1, row);
-      const double g = elevation.at(col - 1, row - 1), h = elevation.at(col, row - 1),
-                   i = elevation.at(col + 1, row - 1);
-      const double dz_de = ((c + 2 * f + i) - (a + 2 * d + g)) / (8 * s.cell_m);
-      const double dz_dn = ((a + 2 * b + c) - (g + 2 * h + i)) / (8 * s.cell_m);
-      slope.at(col, row) = static_cast<float>(std::atan(std::hypot(dz_de, dz_dn)) * kRadToDeg);
+  if (col == 0 || row == 0 || col + 1 >= s.cols || row + 1 >= s.rows) {
+    return std::numeric_limits<float>::quiet_NaN();
+  }
+  // Horn (1981): rows south to north, so "north" is row + 1.
+  const double a = elevation.at(col - 1, row + 1), b = elevation.at(col, row + 1),
+               c = elevation.at(col + 1, row + 1);
+  const double d = elevation.at(col - 1, row), f = elevation.at(col + 1, row);
+  const double g = elevation.at(col - 1, row - 1), h = elevation.at(col, row - 1),
+               i = elevation.at(col + 1, row - 1);
+  const double dz_de = ((c + 2 * f + i) - (a + 2 * d + g)) / (8 * s.cell_m);
+  const double dz_dn = ((a + 2 * b + c) - (g + 2 * h + i)) / (8 * s.cell_m);
+  return static_cast<float>(std::atan(std::hypot(dz_de, dz_dn)) * kRadToDeg);  // NaN propagates
+}
+
+Grid slope_degrees(const Grid& elevation) {
+  Grid slope(elevation.spec);
+  for (std::size_t row = 0; row < slope.spec.rows; ++row) {
+    for (std::size_t col = 0; col < slope.spec.cols; ++col) {
+      slope.at(col, row) = slope_at(elevation, col, row);
     }
   }
-  return slope;  // NaN propagates from any NaN neighbour
+  return slope;
 }
 
 namespace {
 
-/// Sums and valid-cell counts of blocks of factor x factor cells (factor 1: the cells).
-struct BlockSums {
-  std::size_t cols = 0, rows = 0;
-  std::vector<double> sum;
-  std::vector<std::uint32_t> count;
-
-  BlockSums(const Grid& grid, std::size_t factor)
-      : cols((grid.spec.cols + factor - 1) / factor),
-        rows((grid.spec.rows + factor - 1) / factor),
-        sum(cols * rows, 0.0),
-        count(cols * rows, 0) {
-    for (std::size_t row = 0; row < grid.spec.rows; ++row) {
-      for (std::size_t col = 0; col < grid.spec.cols; ++col) {
-        const float v = grid.at(col, row);
-        if (std::isnan(v)) continue;
-        const std::size_t k = (row / factor) * cols + col / factor;
-        sum[k] += v;
-        ++count[k];
-      }
-    }
-  }
-};
-
-/// Per-row prefix sums of block sums and counts: row r, columns [a, b) sum to
-/// sum[r * stride + b] - sum[r * stride + a].
+/// Per-row prefix sums of the sums and valid-cell counts of blocks of factor x factor cells
+/// (factor 1: the cells): block row r, block columns [a, b) sum to sum[r * stride + b] -
+/// sum[r * stride + a]. 12 bytes per block.
 struct RowPrefixSums {
   std::size_t cols, rows, stride;
   std::vector<double> sum;
-  std::vector<std::uint64_t> count;
+  std::vector<std::uint32_t> count;
 
-  explicit RowPrefixSums(const BlockSums& blocks)
-      : cols(blocks.cols),
-        rows(blocks.rows),
-        stride(blocks.cols + 1),
-        sum(blocks.rows * stride, 0.0),
-        count(blocks.rows * stride, 0) {
+  RowPrefixSums(const Grid& grid, std::size_t factor)
+      : cols((grid.spec.cols + factor - 1) / factor),
+        rows((grid.spec.rows + factor - 1) / factor),
+        stride(cols + 1),
+        sum(rows * stride, 0.0),
+        count(rows * stride, 0) {
+    std::vector<double> block_sum(cols);
+    std::vector<std::uint32_t> block_count(cols);
     for (std::size_t row = 0; row < rows; ++row) {
+      std::fill(block_sum.begin(), block_sum.end(), 0.0);
+      std::fill(block_count.begin(), block_count.end(), 0);
+      // Each block's cells are added row by row, west to east.
+      for (std::size_t r = row * factor; r < std::min(grid.spec.rows, (row + 1) * factor); ++r) {
+        for (std::size_t col = 0; col < grid.spec.cols; ++col) {
+          const float v = grid.at(col, r);
+          if (std::isnan(v)) continue;
+          block_sum[col / factor] += v;
+          ++block_count[col / factor];
+        }
+      }
       for (std::size_t col = 0; col < cols; ++col) {
-        sum[row * stride + col + 1] = sum[row * stride + col] + blocks.sum[row * cols + col];
-        count[row * stride + col + 1] = count[row * stride + col] + blocks.count[row * cols + col];
+        sum[row * stride + col + 1] = sum[row * stride + col] + block_sum[col];
+        count[row * stride + col + 1] = count[row * stride + col] + block_count[col];
       }
     }
   }
@@ -213,49 +212,84 @@ std::size_t block_factor(double outer_cells) {
 
 }  // namespace
 
-Grid topographic_position(const Grid& elevation, double inner_m, double outer_m,
-                          double min_valid_fraction) {
-  const GridSpec& s = elevation.spec;
-  const std::size_t factor = block_factor(outer_m / s.cell_m);
-  const BlockSums blocks(elevation, factor);
-  const RowPrefixSums prefix(blocks);
-  const double block_m = s.cell_m * double(factor);
-  const std::vector<long> outer = disc_half_widths(outer_m / block_m);
-  const std::vector<long> inner = disc_half_widths(inner_m / block_m);
-  const double full_annulus =
-      double(disc_cell_count(outer) - disc_cell_count(inner)) * double(factor * factor);
+/// The prefix sums behind an AnnulusTpi (a named type for the header's forward declaration).
+struct TpiPrefixSums : RowPrefixSums {
+  using RowPrefixSums::RowPrefixSums;
+};
 
-  // The annulus mean at every block centre (NaN where too little of it has elevation).
-  GridSpec block_spec = s;
-  block_spec.cell_m = block_m;
-  block_spec.cols = blocks.cols;
-  block_spec.rows = blocks.rows;
-  Grid annulus_mean(block_spec);
-  for_rows_on_two_cores(blocks.rows, [&](std::size_t row) {
-    for (std::size_t col = 0; col < blocks.cols; ++col) {
-      double outer_sum = 0.0, inner_sum = 0.0;
-      std::uint64_t outer_n = 0, inner_n = 0;
-      disc_sum(prefix, outer, long(col), long(row), outer_sum, outer_n);
-      disc_sum(prefix, inner, long(col), long(row), inner_sum, inner_n);
-      const std::uint64_t n = outer_n - inner_n;
-      if (n == 0 || double(n) < min_valid_fraction * full_annulus) continue;
-      annulus_mean.at(col, row) = static_cast<float>((outer_sum - inner_sum) / double(n));
+AnnulusTpi::AnnulusTpi(const Grid& elevation, double inner_m, double outer_m,
+                       double min_valid_fraction)
+    : elevation_(elevation),
+      factor_(block_factor(outer_m / elevation.spec.cell_m)),
+      prefix_(std::make_unique<TpiPrefixSums>(elevation, factor_)),
+      outer_(disc_half_widths(outer_m / (elevation.spec.cell_m * double(factor_)))),
+      inner_(disc_half_widths(inner_m / (elevation.spec.cell_m * double(factor_)))),
+      min_valid_fraction_(min_valid_fraction),
+      block_mean_([&] {
+        GridSpec block_spec = elevation.spec;
+        block_spec.cell_m = elevation.spec.cell_m * double(factor_);
+        block_spec.cols = prefix_->cols;
+        block_spec.rows = prefix_->rows;
+        return Grid(block_spec);
+      }()),
+      known_(block_mean_.values.size(), 0) {
+  full_annulus_ =
+      double(disc_cell_count(outer_) - disc_cell_count(inner_)) * double(factor_ * factor_);
+}
+
+AnnulusTpi::~AnnulusTpi() = default;
+
+float AnnulusTpi::compute_block_mean(std::size_t col, std::size_t row) const {
+  double outer_sum = 0.0, inner_sum = 0.0;
+  std::uint64_t outer_n = 0, inner_n = 0;
+  disc_sum(*prefix_, outer_, long(col), long(row), outer_sum, outer_n);
+  disc_sum(*prefix_, inner_, long(col), long(row), inner_sum, inner_n);
+  const std::uint64_t n = outer_n - inner_n;
+  if (n == 0 || double(n) < min_valid_fraction_ * full_annulus_) {
+    return std::numeric_limits<float>::quiet_NaN();
+  }
+  return static_cast<float>((outer_sum - inner_sum) / double(n));
+}
+
+float AnnulusTpi::block_mean(std::size_t col, std::size_t row) {
+  const std::size_t k = row * block_mean_.spec.cols + col;
+  if (!known_[k]) block_mean_.values[k] = compute_block_mean(col, row), known_[k] = 1;
+  return block_mean_.values[k];
+}
+
+void AnnulusTpi::compute_all() {
+  const std::size_t cols = block_mean_.spec.cols;
+  for_rows_on_two_cores(block_mean_.spec.rows, [&](std::size_t row) {
+    for (std::size_t col = 0; col < cols; ++col) {
+      block_mean_.at(col, row) = compute_block_mean(col, row);
+      known_[row * cols + col] = 1;
     }
   });
+}
 
-  Grid tpi(s);
-  for_rows_on_two_cores(s.rows, [&](std::size_t row) {
-    for (std::size_t col = 0; col < s.cols; ++col) {
-      const float z = elevation.at(col, row);
-      if (std::isnan(z)) continue;
-      double mean = annulus_mean.at(col / factor, row / factor);
-      if (factor > 1) {
-        // Between block centres: bilinear; next to a block without a mean, the own block's.
-        const double between = annulus_mean.sample(s.centre_easting(col), s.centre_northing(row));
-        if (!std::isnan(between)) mean = between;
-      }
-      if (!std::isnan(mean)) tpi.at(col, row) = static_cast<float>(z - mean);
-    }
+float AnnulusTpi::at(std::size_t col, std::size_t row) {
+  const GridSpec& s = elevation_.spec;
+  const float z = elevation_.at(col, row);
+  if (std::isnan(z)) return z;
+  double mean = block_mean(col / factor_, row / factor_);
+  if (factor_ > 1) {
+    // Between block centres: bilinear; next to a block without a mean, the own block's.
+    const double between =
+        bilinear(block_mean_.spec, s.centre_easting(col), s.centre_northing(row),
+                 [this](std::size_t c, std::size_t r) { return block_mean(c, r); });
+    if (!std::isnan(between)) mean = between;
+  }
+  return std::isnan(mean) ? std::numeric_limits<float>::quiet_NaN() : static_cast<float>(z - mean);
+}
+
+Grid topographic_position(const Grid& elevation, double inner_m, double outer_m,
+                          double min_valid_fraction) {
+  AnnulusTpi annulus(elevation, inner_m, outer_m, min_valid_fraction);
+  annulus.compute_all();  // then at() only reads: safe on both cores
+  Grid tpi(elevation.spec);
+  for_rows_on_two_cores(elevation.spec.rows, [&](std::size_t row) {
+    for (std::size_t col = 0; col < elevation.spec.cols; ++col)
+      tpi.at(col, row) = annulus.at(col, row);
   });
   return tpi;
 }
@@ -518,13 +552,15 @@ struct RunningStatistics {
 struct TileLayout {
   double west_m = 0.0, south_m = 0.0, size_m = 0.0;
   std::size_t cols = 1, rows = 1;
-  std::size_t tile_of(const PlanePoint& p) const {
-    const auto col =
-        std::min(cols - 1, static_cast<std::size_t>(std::max(0.0, (p.x - west_m) / size_m)));
-    const auto row =
-        std::min(rows - 1, static_cast<std::size_t>(std::max(0.0, (p.y - south_m) / size_m)));
-    return row * cols + col;
+  std::size_t tile_col(double easting_m) const {
+    return std::min(cols - 1,
+                    static_cast<std::size_t>(std::max(0.0, (easting_m - west_m) / size_m)));
   }
+  std::size_t tile_row(double northing_m) const {
+    return std::min(rows - 1,
+                    static_cast<std::size_t>(std::max(0.0, (northing_m - south_m) / size_m)));
+  }
+  std::size_t tile_of(const PlanePoint& p) const { return tile_row(p.y) * cols + tile_col(p.x); }
 };
 
 /// Copies the cells of `stored` that the tile owns from the tile's grid (bilinear: exact where
@@ -541,6 +577,41 @@ void copy_owned(const Grid& tile, const Owns& owns, Grid& stored) {
     }
   }
 }
+
+/// The terrain measures of one tile, computed only where they are sampled (a segment's
+/// midpoint needs four cells of each; the statistics a lattice of cells).
+struct TileTerrain {
+  const Grid& elevation;
+  AnnulusTpi small, large;
+  TileTerrain(const Grid& z, const TerrainParameters& p)
+      : elevation(z),
+        small(z, p.tpi_small_inner_m, p.tpi_small_outer_m, p.tpi_min_valid_fraction),
+        large(z, p.tpi_large_inner_m, p.tpi_large_outer_m, p.tpi_min_valid_fraction) {}
+
+  /// As sample_terrain() on whole grids: the same bilinear interpolation of the same cells.
+  void sample(const RoadGraph& graph, const std::vector<std::size_t>& segments,
+              std::vector<TerrainSample>& samples) {
+    const GridSpec& g = elevation.spec;
+    for (const std::size_t i : segments) {
+      const Segment& s = graph.segments[i];
+      const PlanePoint mid = segment_midpoint(s);
+      TerrainSample& t = samples[i];
+      t.z_mid_m = static_cast<float>(elevation.sample(mid.x, mid.y));
+      t.z_start_m = static_cast<float>(elevation.sample(s.points.front().x, s.points.front().y));
+      t.z_end_m = static_cast<float>(elevation.sample(s.points.back().x, s.points.back().y));
+      t.slope_deg = static_cast<float>(bilinear(g, mid.x, mid.y, [&](std::size_t c, std::size_t r) {
+        return slope_at(elevation, c, r);
+      }));
+      t.tpi_small_m = static_cast<float>(
+          bilinear(g, mid.x, mid.y, [&](std::size_t c, std::size_t r) { return small.at(c, r); }));
+      t.tpi_large_m = static_cast<float>(
+          bilinear(g, mid.x, mid.y, [&](std::size_t c, std::size_t r) { return large.at(c, r); }));
+    }
+  }
+};
+
+/// The TPI statistics come from at least this many cells of the whole grid (where it has them).
+constexpr double kMinStatisticsCells = 250e3;
 
 /// Cells of the grid kept in the DB: the terrain at the analysis resolution, or coarser by a
 /// whole factor when that would exceed this many cells (a country at 5 m would be billions).
@@ -591,6 +662,21 @@ TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
   std::vector<TerrainSample> samples(graph.segments.size());
   RunningStatistics small_stats, large_stats;
   std::size_t tiles_done = 0, tiles_total = 0;
+  // The statistics' lattice: every statistics_step-th cell each way, finer on small grids so
+  // that it still holds kMinStatisticsCells (a map of a few km is then exact, and cheap).
+  const auto statistics_step = std::max<long long>(
+      1, std::min(
+             std::llround(p.tpi_statistics_step_m / p.cell_size_m),
+             static_cast<long long>(std::sqrt(double(report.grid.size()) / kMinStatisticsCells))));
+  // The large TPI varies on the scale of its 300 m annulus: its lattice is 3x coarser, on the
+  // centres of its blocks, so that each lattice cell interpolates its annulus mean from few
+  // blocks (every block would be computed otherwise). A step of 1 (small grids) is exact.
+  const auto large_factor =
+      static_cast<long long>(block_factor(p.tpi_large_outer_m / p.cell_size_m));
+  const long long large_step =
+      statistics_step == 1 ? 1
+                           : (3 * statistics_step + large_factor - 1) / large_factor * large_factor;
+  const long long large_offset = statistics_step == 1 ? 0 : large_factor / 2;
   for (const auto& tile_segments : segments_of_tile) tiles_total += tile_segments.empty() ? 0 : 1;
 
   for (std::size_t tile = 0; tile < segments_of_tile.size(); ++tile) {
@@ -615,24 +701,65 @@ TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
       }
     }
     report.voids_filled += fill_voids(elevation, p.void_fill_max_m);
-    const TerrainModel model = analyse_terrain(std::move(elevation), p);
     // The tile's own cells: those of the whole grid whose centres fall in this tile (the outer
-    // tiles reach to the whole grid's edge). Each cell counts once in the statistics.
-    const auto owns = [&](double e, double n) {
-      return e >= report.grid.west_m && e < report.grid.east_m() && n >= report.grid.south_m &&
-             n < report.grid.north_m() && layout.tile_of({e, n}) == tile;
-    };
-    const GridSpec& g = model.elevation.spec;
+    // tiles reach to the whole grid's edge). Each cell counts once in the statistics and is
+    // stored once. Ownership is by column and by row.
+    const GridSpec& g = elevation.spec;
+    const std::size_t tile_col = tile % layout.cols, tile_row = tile / layout.cols;
+    std::vector<char> col_owned(g.cols), row_owned(g.rows);
+    for (std::size_t col = 0; col < g.cols; ++col) {
+      const double e = g.centre_easting(col);
+      col_owned[col] =
+          e >= report.grid.west_m && e < report.grid.east_m() && layout.tile_col(e) == tile_col;
+    }
     for (std::size_t row = 0; row < g.rows; ++row) {
+      const double n = g.centre_northing(row);
+      row_owned[row] =
+          n >= report.grid.south_m && n < report.grid.north_m() && layout.tile_row(n) == tile_row;
+    }
+    // The tile's cell (col, row) is the whole grid's (col + col0, row + row0): both grids start
+    // on multiples of align_m.
+    const auto col0 = std::llround((g.west_m - report.grid.west_m) / g.cell_m);
+    const auto row0 = std::llround((g.south_m - report.grid.south_m) / g.cell_m);
+    TileTerrain terrain(elevation, p);
+    for (std::size_t row = 0; row < g.rows; ++row) {
+      if (!row_owned[row]) continue;
+      const long long global_row = static_cast<long long>(row) + row0;
+      const bool small_row = global_row % statistics_step == 0;
+      const bool large_row = global_row % large_step == large_offset;
       for (std::size_t col = 0; col < g.cols; ++col) {
-        if (!owns(g.centre_easting(col), g.centre_northing(row))) continue;
-        report.cells_with_elevation += std::isnan(model.elevation.at(col, row)) ? 0 : 1;
-        small_stats.add(model.tpi_small.at(col, row));
-        large_stats.add(model.tpi_large.at(col, row));
+        if (!col_owned[col]) continue;
+        report.cells_with_elevation += std::isnan(elevation.at(col, row)) ? 0 : 1;
+        const long long global_col = static_cast<long long>(col) + col0;
+        if (small_row && global_col % statistics_step == 0) {
+          small_stats.add(terrain.small.at(col, row));
+        }
+        if (large_row && global_col % large_step == large_offset) {
+          large_stats.add(terrain.large.at(col, row));
+        }
       }
     }
-    copy_owned(model.elevation, owns, stored);
-    sample_terrain(graph, model, segments_of_tile[tile], samples);
+    if (stored.spec.cell_m == g.cell_m) {
+      // Same cells: copied as they are.
+      const auto stored_col0 = std::llround((g.west_m - stored.spec.west_m) / g.cell_m);
+      const auto stored_row0 = std::llround((g.south_m - stored.spec.south_m) / g.cell_m);
+      for (std::size_t row = 0; row < g.rows; ++row) {
+        if (!row_owned[row]) continue;
+        for (std::size_t col = 0; col < g.cols; ++col) {
+          if (!col_owned[col]) continue;
+          stored.at(static_cast<std::size_t>(static_cast<long long>(col) + stored_col0),
+                    static_cast<std::size_t>(static_cast<long long>(row) + stored_row0)) =
+              elevation.at(col, row);
+        }
+      }
+    } else {
+      const auto owns = [&](double e, double n) {
+        return e >= report.grid.west_m && e < report.grid.east_m() && n >= report.grid.south_m &&
+               n < report.grid.north_m() && layout.tile_of({e, n}) == tile;
+      };
+      copy_owned(elevation, owns, stored);
+    }
+    terrain.sample(graph, segments_of_tile[tile], samples);
     progress.update(++tiles_done, tiles_total);
   }
   bool xyz_reported = false;  // the TIN of all XYZ files is counted at the first of them

@@ -30,18 +30,8 @@ GridSpec grid_covering(const geo::UtmZone& zone, double min_e, double min_n, dou
 }
 
 double Grid::sample(double easting_m, double northing_m) const {
-  const double fx = (easting_m - spec.west_m) / spec.cell_m - 0.5;
-  const double fy = (northing_m - spec.south_m) / spec.cell_m - 0.5;
-  if (!(fx >= 0.0 && fy >= 0.0)) return std::numeric_limits<double>::quiet_NaN();
-  auto col = static_cast<std::size_t>(fx), row = static_cast<std::size_t>(fy);
-  // The last row/column centre itself is inside: interpolate in the cell below/left of it.
-  if (col + 1 == spec.cols && fx == double(col)) --col;
-  if (row + 1 == spec.rows && fy == double(row)) --row;
-  if (col + 1 >= spec.cols || row + 1 >= spec.rows) return std::numeric_limits<double>::quiet_NaN();
-  const double tx = fx - double(col), ty = fy - double(row);
-  const double z00 = at(col, row), z10 = at(col + 1, row);
-  const double z01 = at(col, row + 1), z11 = at(col + 1, row + 1);
-  return (z00 * (1 - tx) + z10 * tx) * (1 - ty) + (z01 * (1 - tx) + z11 * tx) * ty;
+  return bilinear(spec, easting_m, northing_m,
+                  [this](std::size_t col, std::size_t row) { return at(col, row); });
 }
 
 std::size_t Grid::count_valid() const {

@@ -139,6 +139,35 @@ TEST(Terrain, TpiNeedsEnoughOfItsAnnulus) {
   EXPECT_NEAR(lenient.sample(kE0 + 2.5, kN0 + 2.5), 0.0, 1e-6);
 }
 
+TEST(Terrain, TpiAtSingleCellsIsTheWholeGridsTpi) {
+  // The build computes TPI only at the cells it samples (block means on demand); those cells
+  // must hold exactly what the whole-grid computation gives, for the small annulus (cells) and
+  // the large one (15 m blocks, interpolated), also next to a void.
+  rp::Grid grid = grid_of(gaussian_hill, 1000.0);
+  for (std::size_t row = 150; row < 170; ++row) {
+    for (std::size_t col = 40; col < 90; ++col) grid.at(col, row) = NAN;
+  }
+  for (const auto& [inner_m, outer_m] : {std::pair{10.0, 50.0}, std::pair{100.0, 300.0}}) {
+    const rp::Grid whole = rp::topographic_position(grid, inner_m, outer_m, 0.5);
+    rp::AnnulusTpi lazy(grid, inner_m, outer_m, 0.5);
+    std::size_t compared = 0, valid = 0;
+    for (std::size_t row = 3; row < grid.spec.rows; row += 7) {
+      for (std::size_t col = 1; col < grid.spec.cols; col += 11) {
+        const float expected = whole.at(col, row), got = lazy.at(col, row);
+        if (std::isnan(expected)) {
+          EXPECT_TRUE(std::isnan(got)) << col << " " << row;
+        } else {
+          EXPECT_EQ(got, expected) << col << " " << row;
+          ++valid;
+        }
+        ++compared;
+      }
+    }
+    EXPECT_GT(valid, compared / 2);
+    EXPECT_LT(valid, compared);  // the void and the edges have none
+  }
+}
+
 TEST(Terrain, TinInterpolationIsExactOnAPlaneAndDoesNotExtrapolate) {
   // Pseudo-random points (a fixed LCG) inside a 400 m square, on the plane z = 50 + 0.03 e - 0.02
   // n.

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -53,6 +54,11 @@ struct TerrainParameters {
   double tpi_large_inner_m = 100.0, tpi_large_outer_m = 300.0;
   /// TPI is computed only where at least this share of the annulus has elevation.
   double tpi_min_valid_fraction = 0.5;
+  /// The TPI's mean and standard deviation (for standardising it) come from the cells on a
+  /// regular lattice of this spacing, metres (rounded to whole cells; the cell size: every
+  /// cell), or a finer one on grids too small to give 250 000 lattice cells. TPI itself is
+  /// computed only at those cells and where segments sample it.
+  double tpi_statistics_step_m = 20.0;
   /// Standardised TPI beyond +-this many standard deviations is "high" / "low" (Weiss: 1).
   double standard_deviations = 1.0;
   /// Smallest standard deviation used to standardise TPI, metres: in flat country the spread of
@@ -78,6 +84,42 @@ struct TerrainParameters {
 /// Slope in degrees at every cell (Horn's 3x3 finite differences, as gdaldem); NaN where a
 /// neighbour has no elevation and at the grid's edge.
 Grid slope_degrees(const Grid& elevation);
+/// The same at one cell.
+float slope_at(const Grid& elevation, std::size_t col, std::size_t row);
+
+struct TpiPrefixSums;
+
+/// TPI of single cells, computed where asked: the cell's elevation minus the mean elevation of
+/// the cells whose centres lie in the annulus inner_m < d <= outer_m (metres). Sums come from
+/// per-row prefix sums (12 bytes a cell, or a block of cells for large radii), so a cell costs
+/// O(outer_m / cell) and not O(area). Beyond ~20 cells of radius the annulus mean is computed
+/// at the centres of blocks of cells and interpolated (it is smooth); block means are kept once
+/// computed. NaN where the cell has no elevation or less than `min_valid_fraction` of the
+/// annulus has. at() is not thread-safe unless compute_all() ran first.
+class AnnulusTpi {
+ public:
+  AnnulusTpi(const Grid& elevation, double inner_m, double outer_m, double min_valid_fraction);
+  ~AnnulusTpi();
+  AnnulusTpi(const AnnulusTpi&) = delete;
+  AnnulusTpi& operator=(const AnnulusTpi&) = delete;
+
+  float at(std::size_t col, std::size_t row);
+  /// Every block mean, on both cores.
+  void compute_all();
+
+ private:
+  float block_mean(std::size_t col, std::size_t row);
+  float compute_block_mean(std::size_t col, std::size_t row) const;
+
+  const Grid& elevation_;
+  std::size_t factor_;
+  std::unique_ptr<TpiPrefixSums> prefix_;
+  std::vector<long> outer_, inner_;
+  double min_valid_fraction_;
+  double full_annulus_ = 0.0;
+  Grid block_mean_;
+  std::vector<std::uint8_t> known_;
+};
 
 /// TPI at every cell: its elevation minus the mean elevation of the cells whose centres lie in
 /// the annulus inner_m < d <= outer_m (metres). Sums come from per-row prefix sums, so a cell
