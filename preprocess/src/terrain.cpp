@@ -10,6 +10,7 @@
 #include "roadcross/preprocess/errors.hpp"
 #include "roadcross/preprocess/progress.hpp"
 #include "roadcross/preprocess/strokes.hpp"
+#include "roadcross/preprocess/xyz_tiles.hpp"
 
 namespace roadcross::preprocess {
 
@@ -68,6 +69,8 @@ void TerrainParameters::describe(std::vector<ParameterSpec>& out) {
                  "plains up to this slope, open slopes above, degrees (Weiss 2001: 5)"});
   out.push_back({s, "tin_max_edge_m", &tin_max_edge_m, 1, 100000, false,
                  "XYZ points: TIN triangles with a longer edge span a gap, metres"});
+  out.push_back({s, "xyz_memory_mib", &xyz_memory_mib, 0.01, 1048576, false,
+                 "XYZ points held in memory before spilling to a temporary file, MiB"});
   out.push_back({s, "void_fill_max_m", &void_fill_max_m, 0, 10000, false,
                  "DEM voids are filled from valid cells at most this far away, metres"});
   out.push_back({s, "window_half_length_m", &window_half_length_m, 0, 10000, false,
@@ -500,33 +503,36 @@ Bounds road_bounds(const RoadGraph& graph) {
   return b;
 }
 
-/// All XYZ points of all files, in UTM (one TIN per tile is made from them).
-std::vector<ElevationPoint> read_xyz_files(const std::vector<const ElevationSource*>& files,
-                                           const std::string& crs_given, const geo::UtmZone& zone,
-                                           TerrainReport& report) {
-  std::vector<ElevationPoint> points;
+/// Every XYZ point of every file, in UTM, read chunk by chunk into the bins of the tiles that
+/// need them (one TIN per tile is made from each bin).
+void read_xyz_files(const std::vector<const ElevationSource*>& files, const std::string& crs_given,
+                    const geo::UtmZone& zone, XyzTileBins& bins, TerrainReport& report) {
+  constexpr std::size_t kChunkPoints = std::size_t(1) << 20;
   for (const ElevationSource* source : files) {
-    std::vector<ElevationPoint> file_points = read_xyz(source->path);
-    const std::string crs =
-        crs_given.empty() ? detect_xyz_crs(source->path, file_points) : crs_given;
-    if (!report.xyz_crs.empty() && report.xyz_crs != crs) {
-      throw InputError(source->path, "its points look like " + crs +
-                                         " but an earlier XYZ file's like " + report.xyz_crs +
-                                         "; give --elevation-crs");
-    }
-    report.xyz_crs = crs;
-    const CrsTransform transform(crs, zone);
-    std::vector<double> x(file_points.size()), y(file_points.size());
-    for (std::size_t i = 0; i < file_points.size(); ++i) {
-      x[i] = file_points[i].x, y[i] = file_points[i].y;
-    }
-    transform.to_utm(x, y);
-    for (std::size_t i = 0; i < file_points.size(); ++i) {
-      if (!std::isnan(x[i])) points.push_back({x[i], y[i], file_points[i].z});
-    }
+    std::unique_ptr<CrsTransform> transform;
+    std::vector<double> x, y;
+    read_xyz_chunks(source->path, kChunkPoints, [&](std::vector<ElevationPoint>& chunk) {
+      // Without --elevation-crs every chunk must look like the detected CRS.
+      const std::string crs = crs_given.empty() ? detect_xyz_crs(source->path, chunk) : crs_given;
+      if (!transform) {
+        if (!report.xyz_crs.empty() && report.xyz_crs != crs) {
+          throw InputError(source->path, "its points look like " + crs +
+                                             " but an earlier XYZ file's like " + report.xyz_crs +
+                                             "; give --elevation-crs");
+        }
+        report.xyz_crs = crs;
+        transform = std::make_unique<CrsTransform>(crs, zone);
+      }
+      x.resize(chunk.size()), y.resize(chunk.size());
+      for (std::size_t i = 0; i < chunk.size(); ++i) x[i] = chunk[i].x, y[i] = chunk[i].y;
+      transform->to_utm(x, y);
+      for (std::size_t i = 0; i < chunk.size(); ++i) {
+        chunk[i].x = x[i], chunk[i].y = y[i];
+        report.xyz_points += std::isnan(x[i]) ? 0 : 1;
+      }
+      bins.add(chunk);
+    });
   }
-  report.xyz_points = points.size();
-  return points;
 }
 
 /// Running sums for the TPI statistics over the tiles' core cells.
@@ -655,9 +661,31 @@ TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
   for (const ElevationSource& s : inputs.sources) {
     if (s.kind == ElevationKind::xyz) xyz_files.push_back(&s);
   }
-  const std::vector<ElevationPoint> xyz_points =
-      xyz_files.empty() ? std::vector<ElevationPoint>{}
-                        : read_xyz_files(xyz_files, inputs.xyz_crs, graph.zone, report);
+  // The tile's core, clipped to the roads' box (its cells are the tile's share of the
+  // statistics and of the stored grid), and its grid: the core plus the halo.
+  const auto tile_grid = [&](std::size_t tile) {
+    const double tile_w = layout.west_m + double(tile % layout.cols) * layout.size_m;
+    const double tile_s = layout.south_m + double(tile / layout.cols) * layout.size_m;
+    const double core_w = std::max(tile_w, roads.min_e), core_s = std::max(tile_s, roads.min_n);
+    const double core_e = std::min(tile_w + layout.size_m, roads.max_e);
+    const double core_n = std::min(tile_s + layout.size_m, roads.max_n);
+    return grid_covering(graph.zone, core_w, core_s, core_e, core_n, halo_m, p.cell_size_m,
+                         align_m);
+  };
+  // XYZ points go to the tiles whose grid, grown by one longest TIN edge, holds them: exactly
+  // the points fill_from_points would take from all of them.
+  std::vector<UtmBox> xyz_boxes(segments_of_tile.size(), UtmBox{1.0, 1.0, 0.0, 0.0});
+  for (std::size_t tile = 0; tile < segments_of_tile.size() && !xyz_files.empty(); ++tile) {
+    if (segments_of_tile[tile].empty()) continue;
+    const GridSpec g = tile_grid(tile);
+    xyz_boxes[tile] = {g.west_m - p.tin_max_edge_m, g.south_m - p.tin_max_edge_m,
+                       g.east_m() + p.tin_max_edge_m, g.north_m() + p.tin_max_edge_m};
+  }
+  XyzTileBins xyz_bins(std::move(xyz_boxes),
+                       static_cast<std::size_t>(p.xyz_memory_mib * 1024.0 * 1024.0),
+                       inputs.spill_dir);
+  if (!xyz_files.empty()) read_xyz_files(xyz_files, inputs.xyz_crs, graph.zone, xyz_bins, report);
+  report.xyz_spilled_points = xyz_bins.spilled_points();
   std::vector<std::size_t> cells_per_source(inputs.sources.size(), 0);
   std::vector<TerrainSample> samples(graph.segments.size());
   RunningStatistics small_stats, large_stats;
@@ -681,22 +709,14 @@ TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
 
   for (std::size_t tile = 0; tile < segments_of_tile.size(); ++tile) {
     if (segments_of_tile[tile].empty()) continue;
-    // The tile's core, clipped to the roads' box (its cells are the tile's share of the
-    // statistics and of the stored grid), and its grid: the core plus the halo.
-    const double tile_w = layout.west_m + double(tile % layout.cols) * layout.size_m;
-    const double tile_s = layout.south_m + double(tile / layout.cols) * layout.size_m;
-    const double core_w = std::max(tile_w, roads.min_e), core_s = std::max(tile_s, roads.min_n);
-    const double core_e = std::min(tile_w + layout.size_m, roads.max_e);
-    const double core_n = std::min(tile_s + layout.size_m, roads.max_n);
-    Grid elevation(
-        grid_covering(graph.zone, core_w, core_s, core_e, core_n, halo_m, p.cell_size_m, align_m));
+    Grid elevation(tile_grid(tile));
     // In the order given; all XYZ files form one TIN, filled at the place of the first of them.
     bool xyz_done = false;
     for (std::size_t k = 0; k < inputs.sources.size(); ++k) {
       if (inputs.sources[k].kind == ElevationKind::raster) {
         cells_per_source[k] += fill_from_raster(elevation, inputs.sources[k].path);
       } else if (!xyz_done) {
-        cells_per_source[k] += fill_from_points(elevation, xyz_points, p.tin_max_edge_m);
+        cells_per_source[k] += fill_from_points(elevation, xyz_bins.take(tile), p.tin_max_edge_m);
         xyz_done = true;
       }
     }

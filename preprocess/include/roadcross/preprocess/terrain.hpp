@@ -68,6 +68,10 @@ struct TerrainParameters {
   double flat_slope_deg = 5.0;
   /// A TIN triangle with a longer edge spans a gap in the points and is not interpolated, m.
   double tin_max_edge_m = 100.0;
+  /// XYZ points are binned by tile (with an overlap of tin_max_edge_m); past this much memory
+  /// for the bins, MiB (24 bytes a point), they are spilled to a temporary file and each tile
+  /// reads its own back, so files larger than memory can be used.
+  double xyz_memory_mib = 1024.0;
   /// DEM voids are filled from valid cells at most this far away, metres.
   double void_fill_max_m = 100.0;
   /// Elevation cost window along the road (as curvature), metres, and own-segment weight.
@@ -176,6 +180,9 @@ struct TerrainInputs {
   std::vector<ElevationSource>
       sources;          ///< in the order given; earlier ones win where they overlap
   std::string xyz_crs;  ///< CRS of the XYZ files; empty: detect S-JTSK
+  /// Where XYZ points are spilled past terrain.xyz_memory_mib (an unnamed temporary file);
+  /// empty: the system's temporary directory.
+  std::string spill_dir;
 };
 
 struct TerrainReport {
@@ -185,7 +192,8 @@ struct TerrainReport {
   std::size_t cells_with_elevation = 0;
   std::size_t voids_filled = 0;
   std::size_t xyz_points = 0;
-  std::string xyz_crs;  ///< as used (given or detected)
+  std::size_t xyz_spilled_points = 0;  ///< written to the temporary file (0: all in memory)
+  std::string xyz_crs;                 ///< as used (given or detected)
   std::size_t segments_without_elevation = 0;
   std::size_t structure_segments = 0;  ///< bridges and tunnels, elevation from their ends
   std::vector<std::pair<std::string, std::size_t>> cells_per_source;
