@@ -507,7 +507,7 @@ Bounds road_bounds(const RoadGraph& graph) {
 /// need them (one TIN per tile is made from each bin).
 void read_xyz_files(const std::vector<const ElevationSource*>& files, const std::string& crs_given,
                     const geo::UtmZone& zone, XyzTileBins& bins, TerrainReport& report) {
-  constexpr std::size_t kChunkPoints = std::size_t(1) << 20;
+  constexpr std::size_t kChunkPoints = std::size_t(1) << 16;  // 1.5 MB
   for (const ElevationSource* source : files) {
     std::unique_ptr<CrsTransform> transform;
     std::vector<double> x, y;
