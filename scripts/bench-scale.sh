@@ -4,6 +4,8 @@
 # `osmium tags-filter FILE w/highway` and roadcross-build (without and with the DEM) on each, in
 # the same run. Writes docs/scale.csv and docs/scale.png (gnuplot).
 # Usage: scripts/bench-scale.sh [sizes="1 10 50 200"] [build-dir=build/release]
+# BENCH_BUILD_ARGS: extra arguments for both roadcross-build runs (e.g. "--sight.enabled 0" to
+# time the terrain stage without the sight stage, which dominates both builds).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 sizes=${1:-"1 10 50 200"}
@@ -27,15 +29,18 @@ echo "copies,pbf_bytes,osmium_s,osmium_kib,build_s,build_kib,build_dem_s,build_d
 for n in $sizes; do
   "$make_tiled" maps/monaco/monaco.osm.pbf "$n" "$work/m$n.osm.pbf" maps/monaco/N43E007.hgt "$work/m$n.tif" >/dev/null
   read -r osmium_s osmium_kib < <(measure osmium tags-filter "$work/m$n.osm.pbf" w/highway -o "$work/f.osm.pbf" --overwrite)
-  read -r build_s build_kib < <(measure "$tool" --osm "$work/m$n.osm.pbf" -o "$work/m$n.gpkg" -q)
+  # shellcheck disable=SC2086
+  read -r build_s build_kib < <(measure "$tool" --osm "$work/m$n.osm.pbf" -o "$work/m$n.gpkg" -q ${BENCH_BUILD_ARGS:-})
   segments=$(sqlite3 "$work/m$n.gpkg" "SELECT count(*) FROM segments")
   dem_s="" dem_kib=""
   if ((with_dem)); then
-    read -r dem_s dem_kib < <(measure "$tool" --osm "$work/m$n.osm.pbf" --elevation "$work/m$n.tif" -o "$work/m${n}dem.gpkg" -q)
+    # shellcheck disable=SC2086
+    read -r dem_s dem_kib < <(measure "$tool" --osm "$work/m$n.osm.pbf" --elevation "$work/m$n.tif" -o "$work/m${n}dem.gpkg" -q ${BENCH_BUILD_ARGS:-})
   fi
   echo "$n,$(stat -c %s "$work/m$n.osm.pbf"),$osmium_s,$osmium_kib,$build_s,$build_kib,$dem_s,$dem_kib,$segments" | tee -a "$work/scale.csv"
   rm -f "$work/m$n.gpkg" "$work/m${n}dem.gpkg"
 done
+[[ -n ${BENCH_NO_DOCS:-} ]] && { cat "$work/scale.csv"; exit 0; }  # a comparison run: keep docs/
 cp "$work/scale.csv" docs/scale.csv
 if command -v gnuplot >/dev/null; then
   gnuplot <<GNUPLOT

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <numbers>
 #include <numeric>
@@ -584,34 +585,32 @@ void copy_owned(const Grid& tile, const Owns& owns, Grid& stored) {
   }
 }
 
-/// The terrain measures of one tile, computed only where they are sampled (a segment's
-/// midpoint needs four cells of each; the statistics a lattice of cells).
-struct TileTerrain {
+/// TPI of one annulus on one tile, computed only where it is needed: at the cells of the
+/// statistics' lattice that the tile owns (added to `stats`) and at the four cells around each
+/// segment's midpoint (bilinear, exactly as sampling a whole TPI grid).
+struct TileTpi {
   const Grid& elevation;
-  AnnulusTpi small, large;
-  TileTerrain(const Grid& z, const TerrainParameters& p)
-      : elevation(z),
-        small(z, p.tpi_small_inner_m, p.tpi_small_outer_m, p.tpi_min_valid_fraction),
-        large(z, p.tpi_large_inner_m, p.tpi_large_outer_m, p.tpi_min_valid_fraction) {}
+  const std::vector<char>& col_owned;
+  const std::vector<char>& row_owned;
+  long long col0, row0;  ///< the tile's cell (0, 0) in the whole grid
+  long long step, offset;
 
-  /// As sample_terrain() on whole grids: the same bilinear interpolation of the same cells.
-  void sample(const RoadGraph& graph, const std::vector<std::size_t>& segments,
-              std::vector<TerrainSample>& samples) {
+  void run(AnnulusTpi& annulus, RunningStatistics& stats, const RoadGraph& graph,
+           const std::vector<std::size_t>& segments, std::vector<TerrainSample>& samples,
+           float TerrainSample::*field) const {
     const GridSpec& g = elevation.spec;
+    for (std::size_t row = 0; row < g.rows; ++row) {
+      if (!row_owned[row] || (static_cast<long long>(row) + row0) % step != offset) continue;
+      for (std::size_t col = 0; col < g.cols; ++col) {
+        if (col_owned[col] && (static_cast<long long>(col) + col0) % step == offset) {
+          stats.add(annulus.at(col, row));
+        }
+      }
+    }
     for (const std::size_t i : segments) {
-      const Segment& s = graph.segments[i];
-      const PlanePoint mid = segment_midpoint(s);
-      TerrainSample& t = samples[i];
-      t.z_mid_m = static_cast<float>(elevation.sample(mid.x, mid.y));
-      t.z_start_m = static_cast<float>(elevation.sample(s.points.front().x, s.points.front().y));
-      t.z_end_m = static_cast<float>(elevation.sample(s.points.back().x, s.points.back().y));
-      t.slope_deg = static_cast<float>(bilinear(g, mid.x, mid.y, [&](std::size_t c, std::size_t r) {
-        return slope_at(elevation, c, r);
-      }));
-      t.tpi_small_m = static_cast<float>(
-          bilinear(g, mid.x, mid.y, [&](std::size_t c, std::size_t r) { return small.at(c, r); }));
-      t.tpi_large_m = static_cast<float>(
-          bilinear(g, mid.x, mid.y, [&](std::size_t c, std::size_t r) { return large.at(c, r); }));
+      const PlanePoint mid = segment_midpoint(graph.segments[i]);
+      samples[i].*field = static_cast<float>(bilinear(
+          g, mid.x, mid.y, [&](std::size_t c, std::size_t r) { return annulus.at(c, r); }));
     }
   }
 };
@@ -705,6 +704,7 @@ TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
       statistics_step == 1 ? 1
                            : (3 * statistics_step + large_factor - 1) / large_factor * large_factor;
   const long long large_offset = statistics_step == 1 ? 0 : large_factor / 2;
+  const long long small_step = statistics_step;
   for (const auto& tile_segments : segments_of_tile) tiles_total += tile_segments.empty() ? 0 : 1;
 
   for (std::size_t tile = 0; tile < segments_of_tile.size(); ++tile) {
@@ -741,23 +741,49 @@ TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
     // on multiples of align_m.
     const auto col0 = std::llround((g.west_m - report.grid.west_m) / g.cell_m);
     const auto row0 = std::llround((g.south_m - report.grid.south_m) / g.cell_m);
-    TileTerrain terrain(elevation, p);
+    // The two annuli on the two cores: each has its own prefix sums and block means.
+    const std::vector<std::size_t>& tile_segments = segments_of_tile[tile];
+    const TileTpi small_tpi{elevation, col_owned, row_owned, col0, row0, small_step, 0};
+    const TileTpi large_tpi{elevation, col_owned, row_owned, col0, row0, large_step, large_offset};
+    std::exception_ptr small_error;
+    std::thread small_thread([&] {
+      try {
+        AnnulusTpi small(elevation, p.tpi_small_inner_m, p.tpi_small_outer_m,
+                         p.tpi_min_valid_fraction);
+        small_tpi.run(small, small_stats, graph, tile_segments, samples,
+                      &TerrainSample::tpi_small_m);
+      } catch (...) {
+        small_error = std::current_exception();
+      }
+    });
+    try {
+      AnnulusTpi large(elevation, p.tpi_large_inner_m, p.tpi_large_outer_m,
+                       p.tpi_min_valid_fraction);
+      large_tpi.run(large, large_stats, graph, tile_segments, samples, &TerrainSample::tpi_large_m);
+    } catch (...) {
+      small_thread.join();
+      throw;
+    }
+    small_thread.join();
+    if (small_error) std::rethrow_exception(small_error);
     for (std::size_t row = 0; row < g.rows; ++row) {
       if (!row_owned[row]) continue;
-      const long long global_row = static_cast<long long>(row) + row0;
-      const bool small_row = global_row % statistics_step == 0;
-      const bool large_row = global_row % large_step == large_offset;
       for (std::size_t col = 0; col < g.cols; ++col) {
-        if (!col_owned[col]) continue;
-        report.cells_with_elevation += std::isnan(elevation.at(col, row)) ? 0 : 1;
-        const long long global_col = static_cast<long long>(col) + col0;
-        if (small_row && global_col % statistics_step == 0) {
-          small_stats.add(terrain.small.at(col, row));
-        }
-        if (large_row && global_col % large_step == large_offset) {
-          large_stats.add(terrain.large.at(col, row));
-        }
+        if (col_owned[col])
+          report.cells_with_elevation += std::isnan(elevation.at(col, row)) ? 0 : 1;
       }
+    }
+    // Elevations and slope (Horn's, at the four cells around the midpoint).
+    for (const std::size_t i : tile_segments) {
+      const Segment& s = graph.segments[i];
+      const PlanePoint mid = segment_midpoint(s);
+      TerrainSample& t = samples[i];
+      t.z_mid_m = static_cast<float>(elevation.sample(mid.x, mid.y));
+      t.z_start_m = static_cast<float>(elevation.sample(s.points.front().x, s.points.front().y));
+      t.z_end_m = static_cast<float>(elevation.sample(s.points.back().x, s.points.back().y));
+      t.slope_deg = static_cast<float>(bilinear(g, mid.x, mid.y, [&](std::size_t c, std::size_t r) {
+        return slope_at(elevation, c, r);
+      }));
     }
     if (stored.spec.cell_m == g.cell_m) {
       // Same cells: copied as they are.
@@ -779,7 +805,6 @@ TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
       };
       copy_owned(elevation, owns, stored);
     }
-    terrain.sample(graph, segments_of_tile[tile], samples);
     progress.update(++tiles_done, tiles_total);
   }
   bool xyz_reported = false;  // the TIN of all XYZ files is counted at the first of them
