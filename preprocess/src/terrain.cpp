@@ -177,6 +177,19 @@ void disc_sum(const RowPrefixSums& p, const std::vector<long>& half, long col, l
               double& sum, std::uint64_t& count) {
   const long r = static_cast<long>(half.size() / 2);
   const long rows = static_cast<long>(p.rows), cols = static_cast<long>(p.cols);
+  if (row - r >= 0 && row + r < rows && col - r >= 0 && col + r < cols) {
+    // Inside the grid (the usual case): no clipping, the same sums in the same order.
+    const double* sums = p.sum.data() + static_cast<std::size_t>(row - r) * p.stride;
+    const std::uint32_t* counts = p.count.data() + static_cast<std::size_t>(row - r) * p.stride;
+    std::uint64_t n = 0;
+    for (const long w : half) {
+      sum += sums[col + w + 1] - sums[col - w];
+      n += counts[col + w + 1] - counts[col - w];
+      sums += p.stride, counts += p.stride;
+    }
+    count += n;
+    return;
+  }
   for (long dy = -r; dy <= r; ++dy) {
     const long y = row + dy;
     if (y < 0 || y >= rows) continue;
