@@ -16,7 +16,7 @@ for f in "$tool" "$make_tiled"; do [[ -x "$f" ]] || { echo "build $f first" >&2;
 work=${BENCH_WORK_DIR:-$(mktemp -d)}
 trap '[[ -z "${BENCH_WORK_DIR:-}" ]] && rm -rf "$work"' EXIT
 with_dem=0
-if "$tool" --help | grep -q -- '--elevation'; then with_dem=1; fi
+if "$tool" --help | grep -- '--elevation' >/dev/null; then with_dem=1; fi  # no -q: an early exit of grep would fail the pipe
 
 # measure LABEL CMD...: prints "seconds peak_kib" of one run.
 measure() {

@@ -520,7 +520,8 @@ Bounds road_bounds(const RoadGraph& graph) {
 /// Every XYZ point of every file, in UTM, read chunk by chunk into the bins of the tiles that
 /// need them (one TIN per tile is made from each bin).
 void read_xyz_files(const std::vector<const ElevationSource*>& files, const std::string& crs_given,
-                    const geo::UtmZone& zone, XyzTileBins& bins, TerrainReport& report) {
+                    const geo::UtmZone& zone, XyzTileBins& bins, TerrainReport& report,
+                    Progress& progress) {
   constexpr std::size_t kChunkPoints = std::size_t(1) << 16;  // 1.5 MB
   for (const ElevationSource* source : files) {
     std::unique_ptr<CrsTransform> transform;
@@ -545,6 +546,7 @@ void read_xyz_files(const std::vector<const ElevationSource*>& files, const std:
         report.xyz_points += std::isnan(x[i]) ? 0 : 1;
       }
       bins.add(chunk);
+      progress.update(report.xyz_points, 0);
     });
   }
 }
@@ -668,7 +670,6 @@ TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
   Grid stored(grid_covering(graph.zone, roads.min_e, roads.min_n, roads.max_e, roads.max_n, halo_m,
                             p.cell_size_m * double(factor), align_m));
 
-  progress.start_stage("terrain", "tiles");
   std::vector<const ElevationSource*> xyz_files;
   for (const ElevationSource& s : inputs.sources) {
     if (s.kind == ElevationKind::xyz) xyz_files.push_back(&s);
@@ -696,8 +697,15 @@ TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
   XyzTileBins xyz_bins(std::move(xyz_boxes),
                        static_cast<std::size_t>(p.xyz_memory_mib * 1024.0 * 1024.0),
                        inputs.spill_dir);
-  if (!xyz_files.empty()) read_xyz_files(xyz_files, inputs.xyz_crs, graph.zone, xyz_bins, report);
-  report.xyz_spilled_points = xyz_bins.spilled_points();
+  if (!xyz_files.empty()) {
+    progress.start_stage("reading XYZ points", "points");
+    read_xyz_files(xyz_files, inputs.xyz_crs, graph.zone, xyz_bins, report, progress);
+    report.xyz_spilled_points = xyz_bins.spilled_points();
+    progress.finish_stage(std::to_string(report.xyz_points) + " points, " +
+                          std::to_string(xyz_bins.spilled_points()) +
+                          " spilled to a temporary file");
+  }
+  progress.start_stage("terrain", "tiles");
   std::vector<std::size_t> cells_per_source(inputs.sources.size(), 0);
   std::vector<TerrainSample> samples(graph.segments.size());
   RunningStatistics small_stats, large_stats;
