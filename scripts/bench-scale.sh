@@ -6,7 +6,11 @@
 # and docs/scale.png (gnuplot); prints each build's per-stage seconds and peak memory (--json)
 # and the load average.
 # Usage: scripts/bench-scale.sh [sizes="1 10 50 200"] [build-dir=build/release]
-# BENCH_DEM=0 skips the builds with the DEM (their columns stay empty).
+# BENCH_DEM=0 skips the builds with the DEM (their columns stay empty). The DEM build runs with
+# --sight.enabled 0 and is compared with the build without the sight stage: the terrain stage's
+# cost alone (the sight stage dominates both builds and is timed by the default build).
+# BENCH_BUILD_ARGS: extra arguments for every roadcross-build run. BENCH_NO_DOCS=1: print the
+# table, leave docs/ alone.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 sizes=${1:-"1 10 50 200"}
@@ -17,7 +21,8 @@ for f in "$tool" "$make_tiled"; do [[ -x "$f" ]] || { echo "build $f first" >&2;
 work=${BENCH_WORK_DIR:-$(mktemp -d)}
 trap '[[ -z "${BENCH_WORK_DIR:-}" ]] && rm -rf "$work"' EXIT
 with_dem=0
-if [[ "${BENCH_DEM:-1}" != 0 ]] && "$tool" --help | grep -q -- '--elevation'; then with_dem=1; fi
+# no -q: an early exit of grep would fail the pipe under pipefail
+if [[ "${BENCH_DEM:-1}" != 0 ]] && "$tool" --help | grep -- '--elevation' >/dev/null; then with_dem=1; fi
 
 # measure CMD...: prints "seconds peak_kib" of one run; its stdout goes to $work/stdout.
 measure() {
@@ -37,20 +42,24 @@ for n in $sizes; do
   "$make_tiled" maps/monaco/monaco.osm.pbf "$n" "$work/m$n.osm.pbf" maps/monaco/N43E007.hgt "$work/m$n.tif" >/dev/null
   read -r osmium_s osmium_kib < <(measure osmium tags-filter "$work/m$n.osm.pbf" w/highway -o "$work/f.osm.pbf" --overwrite)
   echo "# $n copies, load average before: $(cut -d' ' -f1-3 /proc/loadavg)" >&2
-  read -r build_s build_kib < <(measure "$tool" --osm "$work/m$n.osm.pbf" -o "$work/m$n.gpkg" --json)
+  # shellcheck disable=SC2086
+  read -r build_s build_kib < <(measure "$tool" --osm "$work/m$n.osm.pbf" -o "$work/m$n.gpkg" --json ${BENCH_BUILD_ARGS:-})
   stages "build"
   segments=$(sqlite3 "$work/m$n.gpkg" "SELECT count(*) FROM segments")
-  read -r no_sight_s no_sight_kib < <(measure "$tool" --osm "$work/m$n.osm.pbf" -o "$work/m${n}ns.gpkg" --sight.enabled 0 --json)
+  # shellcheck disable=SC2086
+  read -r no_sight_s no_sight_kib < <(measure "$tool" --osm "$work/m$n.osm.pbf" -o "$work/m${n}ns.gpkg" --sight.enabled 0 --json ${BENCH_BUILD_ARGS:-})
   stages "--sight.enabled 0"
   dem_s="" dem_kib=""
   if ((with_dem)); then
-    read -r dem_s dem_kib < <(measure "$tool" --osm "$work/m$n.osm.pbf" --elevation "$work/m$n.tif" -o "$work/m${n}dem.gpkg" --json)
-    stages "--elevation"
+    # shellcheck disable=SC2086
+    read -r dem_s dem_kib < <(measure "$tool" --osm "$work/m$n.osm.pbf" --elevation "$work/m$n.tif" -o "$work/m${n}dem.gpkg" --sight.enabled 0 --json ${BENCH_BUILD_ARGS:-})
+    stages "--elevation --sight.enabled 0"
   fi
   echo "# load average after: $(cut -d' ' -f1-3 /proc/loadavg)" >&2
   echo "$n,$(stat -c %s "$work/m$n.osm.pbf"),$osmium_s,$osmium_kib,$build_s,$build_kib,$dem_s,$dem_kib,$segments,$no_sight_s,$no_sight_kib" | tee -a "$work/scale.csv"
   rm -f "$work/m$n.gpkg" "$work/m${n}dem.gpkg" "$work/m${n}ns.gpkg"
 done
+[[ -n ${BENCH_NO_DOCS:-} ]] && { cat "$work/scale.csv"; exit 0; }  # a comparison run: keep docs/
 cp "$work/scale.csv" docs/scale.csv
 if command -v gnuplot >/dev/null; then
   gnuplot <<GNUPLOT
@@ -66,12 +75,12 @@ set grid
 plot "docs/scale.csv" using 1:5 with linespoints title "roadcross-build", \
      "" using 1:10 with linespoints title "roadcross-build --sight.enabled 0", \
      "" using 1:3 with linespoints title "osmium tags-filter w/highway", \
-     "" using 1:7 with linespoints title "roadcross-build --elevation"
+     "" using 1:7 with linespoints title "roadcross-build --elevation --sight.enabled 0"
 set ylabel "peak RSS, MiB"
 plot "docs/scale.csv" using 1:(\$6/1024) with linespoints title "roadcross-build", \
      "" using 1:(\$11/1024) with linespoints title "roadcross-build --sight.enabled 0", \
      "" using 1:(\$4/1024) with linespoints title "osmium tags-filter", \
-     "" using 1:(\$8/1024) with linespoints title "roadcross-build --elevation"
+     "" using 1:(\$8/1024) with linespoints title "roadcross-build --elevation --sight.enabled 0"
 unset multiplot
 GNUPLOT
 fi

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
@@ -38,6 +39,7 @@ void print_json_summary(const rp::BuildOptions& options, const rp::BuildSummary&
                       {"cells_with_elevation", t.cells_with_elevation},
                       {"voids_filled", t.voids_filled},
                       {"xyz_points", t.xyz_points},
+                      {"xyz_spilled_points", t.xyz_spilled_points},
                       {"xyz_crs", t.xyz_crs},
                       {"segments_without_elevation", t.segments_without_elevation},
                       {"structure_segments", t.structure_segments}};
@@ -139,6 +141,9 @@ int main(int argc, char** argv) {
   for (const std::string& path : elevation_paths) {
     options.elevation.sources.push_back({path, rp::elevation_kind_of(path)});
   }
+  // XYZ points past terrain.xyz_memory_mib spill next to the output (where there is room for it).
+  options.elevation.spill_dir =
+      std::filesystem::absolute(options.output_path).parent_path().string();
   rp::install_interrupt_cleanup();
   options.show_progress = !quiet && rp::Progress::stderr_is_terminal();
   options.tool_version = roadcross::kVersion;

@@ -9,6 +9,7 @@
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <string_view>
 
@@ -77,13 +78,17 @@ ElevationKind elevation_kind_of(const std::string& path) {
   return ext == "xyz" || ext == "txt" || ext == "csv" ? ElevationKind::xyz : ElevationKind::raster;
 }
 
-std::vector<ElevationPoint> read_xyz(const std::string& path) {
+void read_xyz_chunks(const std::string& path, std::size_t chunk_points,
+                     const std::function<void(std::vector<ElevationPoint>&)>& on_chunk) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "cannot open the elevation file (does it exist?)");
   std::vector<char> buffer(1 << 20);
   in.rdbuf()->pubsetbuf(buffer.data(), static_cast<std::streamsize>(buffer.size()));
 
+  chunk_points = std::max<std::size_t>(1, chunk_points);
   std::vector<ElevationPoint> points;
+  points.reserve(std::min<std::size_t>(chunk_points, 1 << 16));
+  std::size_t total = 0;
   std::string line;
   std::size_t line_number = 0;
   bool seen_content = false;
@@ -104,6 +109,11 @@ std::vector<ElevationPoint> read_xyz(const std::string& path) {
                                    std::string(fields[2]) + " m is outside [-500, 9000] m");
       }
       points.push_back(p);
+      if (points.size() == chunk_points) {
+        total += points.size();
+        on_chunk(points);
+        points.clear();
+      }
       continue;
     }
     if (first && has_letter(view)) continue;  // a header such as "X Y Z"
@@ -113,11 +123,20 @@ std::vector<ElevationPoint> read_xyz(const std::string& path) {
                                quoted_excerpt(view));
   }
   if (in.bad()) throw InputError(path, "read error after line " + std::to_string(line_number));
-  if (points.empty()) {
+  total += points.size();
+  if (total == 0) {
     throw InputError(path, line_number == 0 ? "the elevation file is empty"
                                             : "no 'easting northing altitude' point in the file");
   }
-  return points;
+  if (!points.empty()) on_chunk(points);
+}
+
+std::vector<ElevationPoint> read_xyz(const std::string& path) {
+  std::vector<ElevationPoint> all;
+  read_xyz_chunks(path, std::size_t(1) << 20, [&](std::vector<ElevationPoint>& chunk) {
+    all.insert(all.end(), chunk.begin(), chunk.end());
+  });
+  return all;
 }
 
 std::string detect_xyz_crs(const std::string& path, const std::vector<ElevationPoint>& points) {

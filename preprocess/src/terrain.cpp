@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <numbers>
 #include <numeric>
@@ -10,6 +11,7 @@
 #include "roadcross/preprocess/errors.hpp"
 #include "roadcross/preprocess/progress.hpp"
 #include "roadcross/preprocess/strokes.hpp"
+#include "roadcross/preprocess/xyz_tiles.hpp"
 
 namespace roadcross::preprocess {
 
@@ -56,6 +58,8 @@ void TerrainParameters::describe(std::vector<ParameterSpec>& out) {
                  "large TPI annulus: outer radius, metres"});
   out.push_back({s, "tpi_min_valid_fraction", &tpi_min_valid_fraction, 0.01, 1, false,
                  "TPI only where at least this share of the annulus has elevation"});
+  out.push_back({s, "tpi_statistics_step_m", &tpi_statistics_step_m, 0.5, 10000, false,
+                 "TPI mean and SD from the cells of a lattice this far apart, metres"});
   out.push_back({s, "standard_deviations", &standard_deviations, 0.1, 10, false,
                  "standardised TPI beyond +-this is high/low (Weiss 2001: 1)"});
   out.push_back({s, "tpi_small_min_sd_m", &tpi_small_min_sd_m, 0.01, 1000, false,
@@ -66,6 +70,8 @@ void TerrainParameters::describe(std::vector<ParameterSpec>& out) {
                  "plains up to this slope, open slopes above, degrees (Weiss 2001: 5)"});
   out.push_back({s, "tin_max_edge_m", &tin_max_edge_m, 1, 100000, false,
                  "XYZ points: TIN triangles with a longer edge span a gap, metres"});
+  out.push_back({s, "xyz_memory_mib", &xyz_memory_mib, 0.01, 1048576, false,
+                 "XYZ points held in memory before spilling to a temporary file, MiB"});
   out.push_back({s, "void_fill_max_m", &void_fill_max_m, 0, 10000, false,
                  "DEM voids are filled from valid cells at most this far away, metres"});
   out.push_back({s, "window_half_length_m", &window_half_length_m, 0, 10000, false,
@@ -90,68 +96,65 @@ void TerrainParameters::validate_relations() const {
   }
 }
 
-Grid slope_degrees(const Grid& elevation) {
+float slope_at(const Grid& elevation, std::size_t col, std::size_t row) {
   const GridSpec& s = elevation.spec;
-  Grid slope(s);
-  if (s.cols < 3 || s.rows < 3) return slope;
-  for (std::size_t row = 1; row + 1 < s.rows; ++row) {
-    for (std::size_t col = 1; col + 1 < s.cols; ++col) {
-      // Horn (1981): rows south to north, so "north" is row + 1.
-      const double a = elevation.at(col - 1, row + 1), b = elevation.at(col, row + 1),
-                   c = elevation.at(col + 1, row + 1);
-      const double d = elevation.at(col - 1, row), f = elevation.at(col + 1, row);
-      const double g = elevation.at(col - 1, row - 1), h = elevation.at(col, row - 1),
-                   i = elevation.at(col + 1, row - 1);
-      const double dz_de = ((c + 2 * f + i) - (a + 2 * d + g)) / (8 * s.cell_m);
-      const double dz_dn = ((a + 2 * b + c) - (g + 2 * h + i)) / (8 * s.cell_m);
-      slope.at(col, row) = static_cast<float>(std::atan(std::hypot(dz_de, dz_dn)) * kRadToDeg);
+  if (col == 0 || row == 0 || col + 1 >= s.cols || row + 1 >= s.rows) {
+    return std::numeric_limits<float>::quiet_NaN();
+  }
+  // Horn (1981): rows south to north, so "north" is row + 1.
+  const double a = elevation.at(col - 1, row + 1), b = elevation.at(col, row + 1),
+               c = elevation.at(col + 1, row + 1);
+  const double d = elevation.at(col - 1, row), f = elevation.at(col + 1, row);
+  const double g = elevation.at(col - 1, row - 1), h = elevation.at(col, row - 1),
+               i = elevation.at(col + 1, row - 1);
+  const double dz_de = ((c + 2 * f + i) - (a + 2 * d + g)) / (8 * s.cell_m);
+  const double dz_dn = ((a + 2 * b + c) - (g + 2 * h + i)) / (8 * s.cell_m);
+  return static_cast<float>(std::atan(std::hypot(dz_de, dz_dn)) * kRadToDeg);  // NaN propagates
+}
+
+Grid slope_degrees(const Grid& elevation) {
+  Grid slope(elevation.spec);
+  for (std::size_t row = 0; row < slope.spec.rows; ++row) {
+    for (std::size_t col = 0; col < slope.spec.cols; ++col) {
+      slope.at(col, row) = slope_at(elevation, col, row);
     }
   }
-  return slope;  // NaN propagates from any NaN neighbour
+  return slope;
 }
 
 namespace {
 
-/// Sums and valid-cell counts of blocks of factor x factor cells (factor 1: the cells).
-struct BlockSums {
-  std::size_t cols = 0, rows = 0;
-  std::vector<double> sum;
-  std::vector<std::uint32_t> count;
-
-  BlockSums(const Grid& grid, std::size_t factor)
-      : cols((grid.spec.cols + factor - 1) / factor),
-        rows((grid.spec.rows + factor - 1) / factor),
-        sum(cols * rows, 0.0),
-        count(cols * rows, 0) {
-    for (std::size_t row = 0; row < grid.spec.rows; ++row) {
-      for (std::size_t col = 0; col < grid.spec.cols; ++col) {
-        const float v = grid.at(col, row);
-        if (std::isnan(v)) continue;
-        const std::size_t k = (row / factor) * cols + col / factor;
-        sum[k] += v;
-        ++count[k];
-      }
-    }
-  }
-};
-
-/// Per-row prefix sums of block sums and counts: row r, columns [a, b) sum to
-/// sum[r * stride + b] - sum[r * stride + a].
+/// Per-row prefix sums of the sums and valid-cell counts of blocks of factor x factor cells
+/// (factor 1: the cells): block row r, block columns [a, b) sum to sum[r * stride + b] -
+/// sum[r * stride + a]. 12 bytes per block.
 struct RowPrefixSums {
   std::size_t cols, rows, stride;
   std::vector<double> sum;
-  std::vector<std::uint64_t> count;
+  std::vector<std::uint32_t> count;
 
-  explicit RowPrefixSums(const BlockSums& blocks)
-      : cols(blocks.cols),
-        rows(blocks.rows),
-        stride(blocks.cols + 1),
-        sum(blocks.rows * stride, 0.0),
-        count(blocks.rows * stride, 0) {
+  RowPrefixSums(const Grid& grid, std::size_t factor)
+      : cols((grid.spec.cols + factor - 1) / factor),
+        rows((grid.spec.rows + factor - 1) / factor),
+        stride(cols + 1),
+        sum(rows * stride, 0.0),
+        count(rows * stride, 0) {
+    std::vector<double> block_sum(cols);
+    std::vector<std::uint32_t> block_count(cols);
     for (std::size_t row = 0; row < rows; ++row) {
+      std::fill(block_sum.begin(), block_sum.end(), 0.0);
+      std::fill(block_count.begin(), block_count.end(), 0);
+      // Each block's cells are added row by row, west to east.
+      for (std::size_t r = row * factor; r < std::min(grid.spec.rows, (row + 1) * factor); ++r) {
+        for (std::size_t col = 0; col < grid.spec.cols; ++col) {
+          const float v = grid.at(col, r);
+          if (std::isnan(v)) continue;
+          block_sum[col / factor] += v;
+          ++block_count[col / factor];
+        }
+      }
       for (std::size_t col = 0; col < cols; ++col) {
-        sum[row * stride + col + 1] = sum[row * stride + col] + blocks.sum[row * cols + col];
-        count[row * stride + col + 1] = count[row * stride + col] + blocks.count[row * cols + col];
+        sum[row * stride + col + 1] = sum[row * stride + col] + block_sum[col];
+        count[row * stride + col + 1] = count[row * stride + col] + block_count[col];
       }
     }
   }
@@ -174,6 +177,19 @@ void disc_sum(const RowPrefixSums& p, const std::vector<long>& half, long col, l
               double& sum, std::uint64_t& count) {
   const long r = static_cast<long>(half.size() / 2);
   const long rows = static_cast<long>(p.rows), cols = static_cast<long>(p.cols);
+  if (row - r >= 0 && row + r < rows && col - r >= 0 && col + r < cols) {
+    // Inside the grid (the usual case): no clipping, the same sums in the same order.
+    const double* sums = p.sum.data() + static_cast<std::size_t>(row - r) * p.stride;
+    const std::uint32_t* counts = p.count.data() + static_cast<std::size_t>(row - r) * p.stride;
+    std::uint64_t n = 0;
+    for (const long w : half) {
+      sum += sums[col + w + 1] - sums[col - w];
+      n += counts[col + w + 1] - counts[col - w];
+      sums += p.stride, counts += p.stride;
+    }
+    count += n;
+    return;
+  }
   for (long dy = -r; dy <= r; ++dy) {
     const long y = row + dy;
     if (y < 0 || y >= rows) continue;
@@ -213,49 +229,84 @@ std::size_t block_factor(double outer_cells) {
 
 }  // namespace
 
-Grid topographic_position(const Grid& elevation, double inner_m, double outer_m,
-                          double min_valid_fraction) {
-  const GridSpec& s = elevation.spec;
-  const std::size_t factor = block_factor(outer_m / s.cell_m);
-  const BlockSums blocks(elevation, factor);
-  const RowPrefixSums prefix(blocks);
-  const double block_m = s.cell_m * double(factor);
-  const std::vector<long> outer = disc_half_widths(outer_m / block_m);
-  const std::vector<long> inner = disc_half_widths(inner_m / block_m);
-  const double full_annulus =
-      double(disc_cell_count(outer) - disc_cell_count(inner)) * double(factor * factor);
+/// The prefix sums behind an AnnulusTpi (a named type for the header's forward declaration).
+struct TpiPrefixSums : RowPrefixSums {
+  using RowPrefixSums::RowPrefixSums;
+};
 
-  // The annulus mean at every block centre (NaN where too little of it has elevation).
-  GridSpec block_spec = s;
-  block_spec.cell_m = block_m;
-  block_spec.cols = blocks.cols;
-  block_spec.rows = blocks.rows;
-  Grid annulus_mean(block_spec);
-  for_rows_on_two_cores(blocks.rows, [&](std::size_t row) {
-    for (std::size_t col = 0; col < blocks.cols; ++col) {
-      double outer_sum = 0.0, inner_sum = 0.0;
-      std::uint64_t outer_n = 0, inner_n = 0;
-      disc_sum(prefix, outer, long(col), long(row), outer_sum, outer_n);
-      disc_sum(prefix, inner, long(col), long(row), inner_sum, inner_n);
-      const std::uint64_t n = outer_n - inner_n;
-      if (n == 0 || double(n) < min_valid_fraction * full_annulus) continue;
-      annulus_mean.at(col, row) = static_cast<float>((outer_sum - inner_sum) / double(n));
+AnnulusTpi::AnnulusTpi(const Grid& elevation, double inner_m, double outer_m,
+                       double min_valid_fraction)
+    : elevation_(elevation),
+      factor_(block_factor(outer_m / elevation.spec.cell_m)),
+      prefix_(std::make_unique<TpiPrefixSums>(elevation, factor_)),
+      outer_(disc_half_widths(outer_m / (elevation.spec.cell_m * double(factor_)))),
+      inner_(disc_half_widths(inner_m / (elevation.spec.cell_m * double(factor_)))),
+      min_valid_fraction_(min_valid_fraction),
+      block_mean_([&] {
+        GridSpec block_spec = elevation.spec;
+        block_spec.cell_m = elevation.spec.cell_m * double(factor_);
+        block_spec.cols = prefix_->cols;
+        block_spec.rows = prefix_->rows;
+        return Grid(block_spec);
+      }()),
+      known_(block_mean_.values.size(), 0) {
+  full_annulus_ =
+      double(disc_cell_count(outer_) - disc_cell_count(inner_)) * double(factor_ * factor_);
+}
+
+AnnulusTpi::~AnnulusTpi() = default;
+
+float AnnulusTpi::compute_block_mean(std::size_t col, std::size_t row) const {
+  double outer_sum = 0.0, inner_sum = 0.0;
+  std::uint64_t outer_n = 0, inner_n = 0;
+  disc_sum(*prefix_, outer_, long(col), long(row), outer_sum, outer_n);
+  disc_sum(*prefix_, inner_, long(col), long(row), inner_sum, inner_n);
+  const std::uint64_t n = outer_n - inner_n;
+  if (n == 0 || double(n) < min_valid_fraction_ * full_annulus_) {
+    return std::numeric_limits<float>::quiet_NaN();
+  }
+  return static_cast<float>((outer_sum - inner_sum) / double(n));
+}
+
+float AnnulusTpi::block_mean(std::size_t col, std::size_t row) {
+  const std::size_t k = row * block_mean_.spec.cols + col;
+  if (!known_[k]) block_mean_.values[k] = compute_block_mean(col, row), known_[k] = 1;
+  return block_mean_.values[k];
+}
+
+void AnnulusTpi::compute_all() {
+  const std::size_t cols = block_mean_.spec.cols;
+  for_rows_on_two_cores(block_mean_.spec.rows, [&](std::size_t row) {
+    for (std::size_t col = 0; col < cols; ++col) {
+      block_mean_.at(col, row) = compute_block_mean(col, row);
+      known_[row * cols + col] = 1;
     }
   });
+}
 
-  Grid tpi(s);
-  for_rows_on_two_cores(s.rows, [&](std::size_t row) {
-    for (std::size_t col = 0; col < s.cols; ++col) {
-      const float z = elevation.at(col, row);
-      if (std::isnan(z)) continue;
-      double mean = annulus_mean.at(col / factor, row / factor);
-      if (factor > 1) {
-        // Between block centres: bilinear; next to a block without a mean, the own block's.
-        const double between = annulus_mean.sample(s.centre_easting(col), s.centre_northing(row));
-        if (!std::isnan(between)) mean = between;
-      }
-      if (!std::isnan(mean)) tpi.at(col, row) = static_cast<float>(z - mean);
-    }
+float AnnulusTpi::at(std::size_t col, std::size_t row) {
+  const GridSpec& s = elevation_.spec;
+  const float z = elevation_.at(col, row);
+  if (std::isnan(z)) return z;
+  double mean = block_mean(col / factor_, row / factor_);
+  if (factor_ > 1) {
+    // Between block centres: bilinear; next to a block without a mean, the own block's.
+    const double between =
+        bilinear(block_mean_.spec, s.centre_easting(col), s.centre_northing(row),
+                 [this](std::size_t c, std::size_t r) { return block_mean(c, r); });
+    if (!std::isnan(between)) mean = between;
+  }
+  return std::isnan(mean) ? std::numeric_limits<float>::quiet_NaN() : static_cast<float>(z - mean);
+}
+
+Grid topographic_position(const Grid& elevation, double inner_m, double outer_m,
+                          double min_valid_fraction) {
+  AnnulusTpi annulus(elevation, inner_m, outer_m, min_valid_fraction);
+  annulus.compute_all();  // then at() only reads: safe on both cores
+  Grid tpi(elevation.spec);
+  for_rows_on_two_cores(elevation.spec.rows, [&](std::size_t row) {
+    for (std::size_t col = 0; col < elevation.spec.cols; ++col)
+      tpi.at(col, row) = annulus.at(col, row);
   });
   return tpi;
 }
@@ -466,33 +517,38 @@ Bounds road_bounds(const RoadGraph& graph) {
   return b;
 }
 
-/// All XYZ points of all files, in UTM (one TIN per tile is made from them).
-std::vector<ElevationPoint> read_xyz_files(const std::vector<const ElevationSource*>& files,
-                                           const std::string& crs_given, const geo::UtmZone& zone,
-                                           TerrainReport& report) {
-  std::vector<ElevationPoint> points;
+/// Every XYZ point of every file, in UTM, read chunk by chunk into the bins of the tiles that
+/// need them (one TIN per tile is made from each bin).
+void read_xyz_files(const std::vector<const ElevationSource*>& files, const std::string& crs_given,
+                    const geo::UtmZone& zone, XyzTileBins& bins, TerrainReport& report,
+                    Progress& progress) {
+  constexpr std::size_t kChunkPoints = std::size_t(1) << 16;  // 1.5 MB
   for (const ElevationSource* source : files) {
-    std::vector<ElevationPoint> file_points = read_xyz(source->path);
-    const std::string crs =
-        crs_given.empty() ? detect_xyz_crs(source->path, file_points) : crs_given;
-    if (!report.xyz_crs.empty() && report.xyz_crs != crs) {
-      throw InputError(source->path, "its points look like " + crs +
-                                         " but an earlier XYZ file's like " + report.xyz_crs +
-                                         "; give --elevation-crs");
-    }
-    report.xyz_crs = crs;
-    const CrsTransform transform(crs, zone);
-    std::vector<double> x(file_points.size()), y(file_points.size());
-    for (std::size_t i = 0; i < file_points.size(); ++i) {
-      x[i] = file_points[i].x, y[i] = file_points[i].y;
-    }
-    transform.to_utm(x, y);
-    for (std::size_t i = 0; i < file_points.size(); ++i) {
-      if (!std::isnan(x[i])) points.push_back({x[i], y[i], file_points[i].z});
-    }
+    std::unique_ptr<CrsTransform> transform;
+    std::vector<double> x, y;
+    read_xyz_chunks(source->path, kChunkPoints, [&](std::vector<ElevationPoint>& chunk) {
+      // Without --elevation-crs every chunk must look like the detected CRS.
+      const std::string crs = crs_given.empty() ? detect_xyz_crs(source->path, chunk) : crs_given;
+      if (!transform) {
+        if (!report.xyz_crs.empty() && report.xyz_crs != crs) {
+          throw InputError(source->path, "its points look like " + crs +
+                                             " but an earlier XYZ file's like " + report.xyz_crs +
+                                             "; give --elevation-crs");
+        }
+        report.xyz_crs = crs;
+        transform = std::make_unique<CrsTransform>(crs, zone);
+      }
+      x.resize(chunk.size()), y.resize(chunk.size());
+      for (std::size_t i = 0; i < chunk.size(); ++i) x[i] = chunk[i].x, y[i] = chunk[i].y;
+      transform->to_utm(x, y);
+      for (std::size_t i = 0; i < chunk.size(); ++i) {
+        chunk[i].x = x[i], chunk[i].y = y[i];
+        report.xyz_points += std::isnan(x[i]) ? 0 : 1;
+      }
+      bins.add(chunk);
+      progress.update(report.xyz_points, 0);
+    });
   }
-  report.xyz_points = points.size();
-  return points;
 }
 
 /// Running sums for the TPI statistics over the tiles' core cells.
@@ -518,13 +574,15 @@ struct RunningStatistics {
 struct TileLayout {
   double west_m = 0.0, south_m = 0.0, size_m = 0.0;
   std::size_t cols = 1, rows = 1;
-  std::size_t tile_of(const PlanePoint& p) const {
-    const auto col =
-        std::min(cols - 1, static_cast<std::size_t>(std::max(0.0, (p.x - west_m) / size_m)));
-    const auto row =
-        std::min(rows - 1, static_cast<std::size_t>(std::max(0.0, (p.y - south_m) / size_m)));
-    return row * cols + col;
+  std::size_t tile_col(double easting_m) const {
+    return std::min(cols - 1,
+                    static_cast<std::size_t>(std::max(0.0, (easting_m - west_m) / size_m)));
   }
+  std::size_t tile_row(double northing_m) const {
+    return std::min(rows - 1,
+                    static_cast<std::size_t>(std::max(0.0, (northing_m - south_m) / size_m)));
+  }
+  std::size_t tile_of(const PlanePoint& p) const { return tile_row(p.y) * cols + tile_col(p.x); }
 };
 
 /// Copies the cells of `stored` that the tile owns from the tile's grid (bilinear: exact where
@@ -541,6 +599,39 @@ void copy_owned(const Grid& tile, const Owns& owns, Grid& stored) {
     }
   }
 }
+
+/// TPI of one annulus on one tile, computed only where it is needed: at the cells of the
+/// statistics' lattice that the tile owns (added to `stats`) and at the four cells around each
+/// segment's midpoint (bilinear, exactly as sampling a whole TPI grid).
+struct TileTpi {
+  const Grid& elevation;
+  const std::vector<char>& col_owned;
+  const std::vector<char>& row_owned;
+  long long col0, row0;  ///< the tile's cell (0, 0) in the whole grid
+  long long step, offset;
+
+  void run(AnnulusTpi& annulus, RunningStatistics& stats, const RoadGraph& graph,
+           const std::vector<std::size_t>& segments, std::vector<TerrainSample>& samples,
+           float TerrainSample::*field) const {
+    const GridSpec& g = elevation.spec;
+    for (std::size_t row = 0; row < g.rows; ++row) {
+      if (!row_owned[row] || (static_cast<long long>(row) + row0) % step != offset) continue;
+      for (std::size_t col = 0; col < g.cols; ++col) {
+        if (col_owned[col] && (static_cast<long long>(col) + col0) % step == offset) {
+          stats.add(annulus.at(col, row));
+        }
+      }
+    }
+    for (const std::size_t i : segments) {
+      const PlanePoint mid = segment_midpoint(graph.segments[i]);
+      samples[i].*field = static_cast<float>(bilinear(
+          g, mid.x, mid.y, [&](std::size_t c, std::size_t r) { return annulus.at(c, r); }));
+    }
+  }
+};
+
+/// The TPI statistics come from at least this many cells of the whole grid (where it has them).
+constexpr double kMinStatisticsCells = 250e3;
 
 /// Cells of the grid kept in the DB: the terrain at the analysis resolution, or coarser by a
 /// whole factor when that would exceed this many cells (a country at 5 m would be billions).
@@ -579,60 +670,162 @@ TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
   Grid stored(grid_covering(graph.zone, roads.min_e, roads.min_n, roads.max_e, roads.max_n, halo_m,
                             p.cell_size_m * double(factor), align_m));
 
-  progress.start_stage("terrain", "tiles");
   std::vector<const ElevationSource*> xyz_files;
   for (const ElevationSource& s : inputs.sources) {
     if (s.kind == ElevationKind::xyz) xyz_files.push_back(&s);
   }
-  const std::vector<ElevationPoint> xyz_points =
-      xyz_files.empty() ? std::vector<ElevationPoint>{}
-                        : read_xyz_files(xyz_files, inputs.xyz_crs, graph.zone, report);
-  std::vector<std::size_t> cells_per_source(inputs.sources.size(), 0);
-  std::vector<TerrainSample> samples(graph.segments.size());
-  RunningStatistics small_stats, large_stats;
-  std::size_t tiles_done = 0, tiles_total = 0;
-  for (const auto& tile_segments : segments_of_tile) tiles_total += tile_segments.empty() ? 0 : 1;
-
-  for (std::size_t tile = 0; tile < segments_of_tile.size(); ++tile) {
-    if (segments_of_tile[tile].empty()) continue;
-    // The tile's core, clipped to the roads' box (its cells are the tile's share of the
-    // statistics and of the stored grid), and its grid: the core plus the halo.
+  // The tile's core, clipped to the roads' box (its cells are the tile's share of the
+  // statistics and of the stored grid), and its grid: the core plus the halo.
+  const auto tile_grid = [&](std::size_t tile) {
     const double tile_w = layout.west_m + double(tile % layout.cols) * layout.size_m;
     const double tile_s = layout.south_m + double(tile / layout.cols) * layout.size_m;
     const double core_w = std::max(tile_w, roads.min_e), core_s = std::max(tile_s, roads.min_n);
     const double core_e = std::min(tile_w + layout.size_m, roads.max_e);
     const double core_n = std::min(tile_s + layout.size_m, roads.max_n);
-    Grid elevation(
-        grid_covering(graph.zone, core_w, core_s, core_e, core_n, halo_m, p.cell_size_m, align_m));
+    return grid_covering(graph.zone, core_w, core_s, core_e, core_n, halo_m, p.cell_size_m,
+                         align_m);
+  };
+  // XYZ points go to the tiles whose grid, grown by one longest TIN edge, holds them: exactly
+  // the points fill_from_points would take from all of them.
+  std::vector<UtmBox> xyz_boxes(segments_of_tile.size(), UtmBox{1.0, 1.0, 0.0, 0.0});
+  for (std::size_t tile = 0; tile < segments_of_tile.size() && !xyz_files.empty(); ++tile) {
+    if (segments_of_tile[tile].empty()) continue;
+    const GridSpec g = tile_grid(tile);
+    xyz_boxes[tile] = {g.west_m - p.tin_max_edge_m, g.south_m - p.tin_max_edge_m,
+                       g.east_m() + p.tin_max_edge_m, g.north_m() + p.tin_max_edge_m};
+  }
+  XyzTileBins xyz_bins(std::move(xyz_boxes),
+                       static_cast<std::size_t>(p.xyz_memory_mib * 1024.0 * 1024.0),
+                       inputs.spill_dir);
+  if (!xyz_files.empty()) {
+    progress.start_stage("reading XYZ points", "points");
+    read_xyz_files(xyz_files, inputs.xyz_crs, graph.zone, xyz_bins, report, progress);
+    report.xyz_spilled_points = xyz_bins.spilled_points();
+    progress.finish_stage(std::to_string(report.xyz_points) + " points, " +
+                          std::to_string(xyz_bins.spilled_points()) +
+                          " spilled to a temporary file");
+  }
+  progress.start_stage("terrain", "tiles");
+  std::vector<std::size_t> cells_per_source(inputs.sources.size(), 0);
+  std::vector<TerrainSample> samples(graph.segments.size());
+  RunningStatistics small_stats, large_stats;
+  std::size_t tiles_done = 0, tiles_total = 0;
+  // The statistics' lattice: every statistics_step-th cell each way, finer on small grids so
+  // that it still holds kMinStatisticsCells (a map of a few km is then exact, and cheap).
+  const auto statistics_step = std::max<long long>(
+      1, std::min(
+             std::llround(p.tpi_statistics_step_m / p.cell_size_m),
+             static_cast<long long>(std::sqrt(double(report.grid.size()) / kMinStatisticsCells))));
+  // The large TPI varies on the scale of its 300 m annulus: its lattice is 3x coarser, on the
+  // centres of its blocks, so that each lattice cell interpolates its annulus mean from few
+  // blocks (every block would be computed otherwise). A step of 1 (small grids) is exact.
+  const auto large_factor =
+      static_cast<long long>(block_factor(p.tpi_large_outer_m / p.cell_size_m));
+  const long long large_step =
+      statistics_step == 1 ? 1
+                           : (3 * statistics_step + large_factor - 1) / large_factor * large_factor;
+  const long long large_offset = statistics_step == 1 ? 0 : large_factor / 2;
+  const long long small_step = statistics_step;
+  for (const auto& tile_segments : segments_of_tile) tiles_total += tile_segments.empty() ? 0 : 1;
+
+  for (std::size_t tile = 0; tile < segments_of_tile.size(); ++tile) {
+    if (segments_of_tile[tile].empty()) continue;
+    Grid elevation(tile_grid(tile));
     // In the order given; all XYZ files form one TIN, filled at the place of the first of them.
     bool xyz_done = false;
     for (std::size_t k = 0; k < inputs.sources.size(); ++k) {
       if (inputs.sources[k].kind == ElevationKind::raster) {
         cells_per_source[k] += fill_from_raster(elevation, inputs.sources[k].path);
       } else if (!xyz_done) {
-        cells_per_source[k] += fill_from_points(elevation, xyz_points, p.tin_max_edge_m);
+        cells_per_source[k] += fill_from_points(elevation, xyz_bins.take(tile), p.tin_max_edge_m);
         xyz_done = true;
       }
     }
     report.voids_filled += fill_voids(elevation, p.void_fill_max_m);
-    const TerrainModel model = analyse_terrain(std::move(elevation), p);
     // The tile's own cells: those of the whole grid whose centres fall in this tile (the outer
-    // tiles reach to the whole grid's edge). Each cell counts once in the statistics.
-    const auto owns = [&](double e, double n) {
-      return e >= report.grid.west_m && e < report.grid.east_m() && n >= report.grid.south_m &&
-             n < report.grid.north_m() && layout.tile_of({e, n}) == tile;
-    };
-    const GridSpec& g = model.elevation.spec;
+    // tiles reach to the whole grid's edge). Each cell counts once in the statistics and is
+    // stored once. Ownership is by column and by row.
+    const GridSpec& g = elevation.spec;
+    const std::size_t tile_col = tile % layout.cols, tile_row = tile / layout.cols;
+    std::vector<char> col_owned(g.cols), row_owned(g.rows);
+    for (std::size_t col = 0; col < g.cols; ++col) {
+      const double e = g.centre_easting(col);
+      col_owned[col] =
+          e >= report.grid.west_m && e < report.grid.east_m() && layout.tile_col(e) == tile_col;
+    }
     for (std::size_t row = 0; row < g.rows; ++row) {
+      const double n = g.centre_northing(row);
+      row_owned[row] =
+          n >= report.grid.south_m && n < report.grid.north_m() && layout.tile_row(n) == tile_row;
+    }
+    // The tile's cell (col, row) is the whole grid's (col + col0, row + row0): both grids start
+    // on multiples of align_m.
+    const auto col0 = std::llround((g.west_m - report.grid.west_m) / g.cell_m);
+    const auto row0 = std::llround((g.south_m - report.grid.south_m) / g.cell_m);
+    // The two annuli on the two cores: each has its own prefix sums and block means.
+    const std::vector<std::size_t>& tile_segments = segments_of_tile[tile];
+    const TileTpi small_tpi{elevation, col_owned, row_owned, col0, row0, small_step, 0};
+    const TileTpi large_tpi{elevation, col_owned, row_owned, col0, row0, large_step, large_offset};
+    std::exception_ptr small_error;
+    std::thread small_thread([&] {
+      try {
+        AnnulusTpi small(elevation, p.tpi_small_inner_m, p.tpi_small_outer_m,
+                         p.tpi_min_valid_fraction);
+        small_tpi.run(small, small_stats, graph, tile_segments, samples,
+                      &TerrainSample::tpi_small_m);
+      } catch (...) {
+        small_error = std::current_exception();
+      }
+    });
+    try {
+      AnnulusTpi large(elevation, p.tpi_large_inner_m, p.tpi_large_outer_m,
+                       p.tpi_min_valid_fraction);
+      large_tpi.run(large, large_stats, graph, tile_segments, samples, &TerrainSample::tpi_large_m);
+    } catch (...) {
+      small_thread.join();
+      throw;
+    }
+    small_thread.join();
+    if (small_error) std::rethrow_exception(small_error);
+    for (std::size_t row = 0; row < g.rows; ++row) {
+      if (!row_owned[row]) continue;
       for (std::size_t col = 0; col < g.cols; ++col) {
-        if (!owns(g.centre_easting(col), g.centre_northing(row))) continue;
-        report.cells_with_elevation += std::isnan(model.elevation.at(col, row)) ? 0 : 1;
-        small_stats.add(model.tpi_small.at(col, row));
-        large_stats.add(model.tpi_large.at(col, row));
+        if (col_owned[col])
+          report.cells_with_elevation += std::isnan(elevation.at(col, row)) ? 0 : 1;
       }
     }
-    copy_owned(model.elevation, owns, stored);
-    sample_terrain(graph, model, segments_of_tile[tile], samples);
+    // Elevations and slope (Horn's, at the four cells around the midpoint).
+    for (const std::size_t i : tile_segments) {
+      const Segment& s = graph.segments[i];
+      const PlanePoint mid = segment_midpoint(s);
+      TerrainSample& t = samples[i];
+      t.z_mid_m = static_cast<float>(elevation.sample(mid.x, mid.y));
+      t.z_start_m = static_cast<float>(elevation.sample(s.points.front().x, s.points.front().y));
+      t.z_end_m = static_cast<float>(elevation.sample(s.points.back().x, s.points.back().y));
+      t.slope_deg = static_cast<float>(bilinear(g, mid.x, mid.y, [&](std::size_t c, std::size_t r) {
+        return slope_at(elevation, c, r);
+      }));
+    }
+    if (stored.spec.cell_m == g.cell_m) {
+      // Same cells: copied as they are.
+      const auto stored_col0 = std::llround((g.west_m - stored.spec.west_m) / g.cell_m);
+      const auto stored_row0 = std::llround((g.south_m - stored.spec.south_m) / g.cell_m);
+      for (std::size_t row = 0; row < g.rows; ++row) {
+        if (!row_owned[row]) continue;
+        for (std::size_t col = 0; col < g.cols; ++col) {
+          if (!col_owned[col]) continue;
+          stored.at(static_cast<std::size_t>(static_cast<long long>(col) + stored_col0),
+                    static_cast<std::size_t>(static_cast<long long>(row) + stored_row0)) =
+              elevation.at(col, row);
+        }
+      }
+    } else {
+      const auto owns = [&](double e, double n) {
+        return e >= report.grid.west_m && e < report.grid.east_m() && n >= report.grid.south_m &&
+               n < report.grid.north_m() && layout.tile_of({e, n}) == tile;
+      };
+      copy_owned(elevation, owns, stored);
+    }
     progress.update(++tiles_done, tiles_total);
   }
   bool xyz_reported = false;  // the TIN of all XYZ files is counted at the first of them

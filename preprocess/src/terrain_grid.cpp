@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <memory>
+#include <thread>
 #include <utility>
 
 #include "roadcross/preprocess/errors.hpp"
@@ -30,18 +31,8 @@ GridSpec grid_covering(const geo::UtmZone& zone, double min_e, double min_n, dou
 }
 
 double Grid::sample(double easting_m, double northing_m) const {
-  const double fx = (easting_m - spec.west_m) / spec.cell_m - 0.5;
-  const double fy = (northing_m - spec.south_m) / spec.cell_m - 0.5;
-  if (!(fx >= 0.0 && fy >= 0.0)) return std::numeric_limits<double>::quiet_NaN();
-  auto col = static_cast<std::size_t>(fx), row = static_cast<std::size_t>(fy);
-  // The last row/column centre itself is inside: interpolate in the cell below/left of it.
-  if (col + 1 == spec.cols && fx == double(col)) --col;
-  if (row + 1 == spec.rows && fy == double(row)) --row;
-  if (col + 1 >= spec.cols || row + 1 >= spec.rows) return std::numeric_limits<double>::quiet_NaN();
-  const double tx = fx - double(col), ty = fy - double(row);
-  const double z00 = at(col, row), z10 = at(col + 1, row);
-  const double z01 = at(col, row + 1), z11 = at(col + 1, row + 1);
-  return (z00 * (1 - tx) + z10 * tx) * (1 - ty) + (z01 * (1 - tx) + z11 * tx) * ty;
+  return bilinear(spec, easting_m, northing_m,
+                  [this](std::size_t col, std::size_t row) { return at(col, row); });
 }
 
 std::size_t Grid::count_valid() const {
@@ -50,6 +41,16 @@ std::size_t Grid::count_valid() const {
 }
 
 namespace {
+
+/// Runs body(row) for every row, interleaved over two threads (each writes its own rows).
+template <typename Body>
+void for_rows_on_two_cores(std::size_t rows, const Body& body) {
+  std::thread other([&] {
+    for (std::size_t row = 1; row < rows; row += 2) body(row);
+  });
+  for (std::size_t row = 0; row < rows; row += 2) body(row);
+  other.join();
+}
 
 struct GdalDatasetCloser {
   void operator()(GDALDataset* d) const { GDALClose(d); }
@@ -89,7 +90,7 @@ void raster_coordinates(const GridSpec& spec, OGRCoordinateTransformation& utm_t
   }
   px.assign(spec.size(), 0.0f);
   py.assign(spec.size(), 0.0f);
-  for (std::size_t row = 0; row < spec.rows; ++row) {
+  for_rows_on_two_cores(spec.rows, [&](std::size_t row) {
     const std::size_t j = row / kStep;
     const double ty = double(row - j * kStep) / kStep;
     for (std::size_t col = 0; col < spec.cols; ++col) {
@@ -103,7 +104,7 @@ void raster_coordinates(const GridSpec& spec, OGRCoordinateTransformation& utm_t
       px[row * spec.cols + col] = static_cast<float>(lerp2(lpx));
       py[row * spec.cols + col] = static_cast<float>(lerp2(lpy));
     }
-  }
+  });
 }
 
 }  // namespace
@@ -176,25 +177,28 @@ std::size_t fill_from_raster(Grid& grid, const std::string& path) {
     }
   }
 
-  std::size_t filled = 0;
-  for (std::size_t k = 0; k < grid.values.size(); ++k) {
-    if (!std::isnan(grid.values[k]) || std::isnan(px[k])) continue;
-    const double fx = double(px[k]) - x0, fy = double(py[k]) - y0;
-    if (fx < 0.0 || fy < 0.0 || fx > window_w - 1 || fy > window_h - 1) continue;
-    const int c = std::min(static_cast<int>(fx), window_w - 2);
-    const int r = std::min(static_cast<int>(fy), window_h - 2);
-    if (c < 0 || r < 0) continue;  // a one-pixel-wide window
-    const double tx = fx - c, ty = fy - r;
-    const auto pixel = [&](int cc, int rr) {
-      return double(pixels[static_cast<std::size_t>(rr) * window_w + cc]);
-    };
-    const double z = (pixel(c, r) * (1 - tx) + pixel(c + 1, r) * tx) * (1 - ty) +
-                     (pixel(c, r + 1) * (1 - tx) + pixel(c + 1, r + 1) * tx) * ty;
-    if (std::isnan(z)) continue;
-    grid.values[k] = static_cast<float>(z);
-    ++filled;
-  }
-  return filled;
+  std::array<std::size_t, 2> filled_by{0, 0};  // per thread: rows alternate between the two
+  for_rows_on_two_cores(grid.spec.rows, [&](std::size_t row) {
+    std::size_t& filled = filled_by[row % 2];
+    for (std::size_t k = row * grid.spec.cols; k < (row + 1) * grid.spec.cols; ++k) {
+      if (!std::isnan(grid.values[k]) || std::isnan(px[k])) continue;
+      const double fx = double(px[k]) - x0, fy = double(py[k]) - y0;
+      if (fx < 0.0 || fy < 0.0 || fx > window_w - 1 || fy > window_h - 1) continue;
+      const int c = std::min(static_cast<int>(fx), window_w - 2);
+      const int r = std::min(static_cast<int>(fy), window_h - 2);
+      if (c < 0 || r < 0) continue;  // a one-pixel-wide window
+      const double tx = fx - c, ty = fy - r;
+      const auto pixel = [&](int cc, int rr) {
+        return double(pixels[static_cast<std::size_t>(rr) * window_w + cc]);
+      };
+      const double z = (pixel(c, r) * (1 - tx) + pixel(c + 1, r) * tx) * (1 - ty) +
+                       (pixel(c, r + 1) * (1 - tx) + pixel(c + 1, r + 1) * tx) * ty;
+      if (std::isnan(z)) continue;
+      grid.values[k] = static_cast<float>(z);
+      ++filled;
+    }
+  });
+  return filled_by[0] + filled_by[1];
 }
 
 std::size_t fill_from_points(Grid& grid, const std::vector<ElevationPoint>& points_utm,

@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 #include <ogr_spatialref.h>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <numbers>
@@ -137,6 +139,35 @@ TEST(Terrain, TpiNeedsEnoughOfItsAnnulus) {
   EXPECT_TRUE(std::isnan(tpi.sample(kE0 + 2.5, kN0 + 2.5)));
   const rp::Grid lenient = rp::topographic_position(grid, 10.0, 50.0, 0.1);
   EXPECT_NEAR(lenient.sample(kE0 + 2.5, kN0 + 2.5), 0.0, 1e-6);
+}
+
+TEST(Terrain, TpiAtSingleCellsIsTheWholeGridsTpi) {
+  // The build computes TPI only at the cells it samples (block means on demand); those cells
+  // must hold exactly what the whole-grid computation gives, for the small annulus (cells) and
+  // the large one (15 m blocks, interpolated), also next to a void.
+  rp::Grid grid = grid_of(gaussian_hill, 1000.0);
+  for (std::size_t row = 150; row < 170; ++row) {
+    for (std::size_t col = 40; col < 90; ++col) grid.at(col, row) = NAN;
+  }
+  for (const auto& [inner_m, outer_m] : {std::pair{10.0, 50.0}, std::pair{100.0, 300.0}}) {
+    const rp::Grid whole = rp::topographic_position(grid, inner_m, outer_m, 0.5);
+    rp::AnnulusTpi lazy(grid, inner_m, outer_m, 0.5);
+    std::size_t compared = 0, valid = 0;
+    for (std::size_t row = 3; row < grid.spec.rows; row += 7) {
+      for (std::size_t col = 1; col < grid.spec.cols; col += 11) {
+        const float expected = whole.at(col, row), got = lazy.at(col, row);
+        if (std::isnan(expected)) {
+          EXPECT_TRUE(std::isnan(got)) << col << " " << row;
+        } else {
+          EXPECT_EQ(got, expected) << col << " " << row;
+          ++valid;
+        }
+        ++compared;
+      }
+    }
+    EXPECT_GT(valid, compared / 2);
+    EXPECT_LT(valid, compared);  // the void and the edges have none
+  }
 }
 
 TEST(Terrain, TinInterpolationIsExactOnAPlaneAndDoesNotExtrapolate) {
@@ -554,4 +585,58 @@ TEST(TerrainBuild, TilesGiveTheSameTermsAsOneGrid) {
     EXPECT_EQ(a[i].elevation_cost, b[i].elevation_cost) << i;
     EXPECT_EQ(a[i].reasons, b[i].reasons) << i;
   }
+}
+
+TEST(TerrainBuild, XyzSplitWithASmallMemoryBudgetGivesTheSameTerms) {
+  // The hill's 90 601 XYZ points over 150 m tiles: held in memory (the default budget), and
+  // with a budget of ~2 200 points so that they are spilled to the temporary file many times
+  // and each tile reads its own back. Same points per tile, same order: the same TINs, terms
+  // and stored grid. Nothing but the outputs is left in the directory.
+  TempDir dir;
+  const std::string xyz = write_xyz(dir.file("hill.xyz"), gaussian_hill, 1500.0, 10.0, ' ');
+  const auto run = [&](const std::string& out, double budget_mib) {
+    rp::BuildOptions options;
+    options.osm_path = dir.write("road.osm", road_across());
+    options.output_path = dir.file(out);
+    options.parameters.segments.max_segment_length_m = 10.01;
+    options.parameters.terrain.tile_size_m = 150.0;
+    options.parameters.terrain.xyz_memory_mib = budget_mib;
+    options.elevation.sources.push_back({xyz, rp::ElevationKind::xyz});
+    options.elevation.xyz_crs = "EPSG:32633";
+    options.elevation.spill_dir = dir.path();
+    return rp::run_build(options);
+  };
+  const rp::BuildSummary held = run("held.gpkg", 1024.0);
+  const rp::BuildSummary split = run("split.gpkg", 0.05);
+  EXPECT_EQ(held.terrain.xyz_spilled_points, 0u);
+  EXPECT_GT(split.terrain.xyz_spilled_points, 90601u / 2);
+  EXPECT_EQ(split.terrain.xyz_points, 90601u);
+  EXPECT_EQ(split.terrain.tiles, 8u);
+  EXPECT_EQ(split.terrain.cells_with_elevation, held.terrain.cells_with_elevation);
+  const auto a = read_segments(dir.file("held.gpkg"));
+  const auto b = read_segments(dir.file("split.gpkg"));
+  ASSERT_EQ(a.size(), 120u);
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    ASSERT_TRUE(a[i].elevation_m && b[i].elevation_m);
+    EXPECT_EQ(*a[i].elevation_m, *b[i].elevation_m) << i;
+    EXPECT_EQ(*a[i].grade_percent, *b[i].grade_percent) << i;
+    EXPECT_EQ(a[i].landform, b[i].landform) << i;
+    EXPECT_EQ(a[i].elevation_cost, b[i].elevation_cost) << i;
+  }
+  roadcross::sqlite::Database db(dir.file("held.gpkg"), SQLITE_OPEN_READONLY);
+  db.exec("ATTACH '" + dir.file("split.gpkg") + "' AS split");
+  auto q = db.prepare(
+      "SELECT (SELECT count(*) FROM main.terrain), (SELECT count(*) FROM (SELECT zoom_level, "
+      "tile_column, tile_row, tile_data FROM main.terrain EXCEPT SELECT zoom_level, "
+      "tile_column, tile_row, tile_data FROM split.terrain))");
+  ASSERT_TRUE(q.step());
+  EXPECT_GT(q.column_int64(0), 0);
+  EXPECT_EQ(q.column_int64(1), 0);  // every stored tile byte for byte
+  std::vector<std::string> left;
+  for (const auto& entry : std::filesystem::directory_iterator(dir.path())) {
+    left.push_back(entry.path().filename().string());
+  }
+  std::sort(left.begin(), left.end());
+  EXPECT_EQ(left, (std::vector<std::string>{"held.gpkg", "hill.xyz", "road.osm", "split.gpkg"}));
 }

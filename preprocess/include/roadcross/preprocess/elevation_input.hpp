@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -35,6 +36,12 @@ ElevationKind elevation_kind_of(const std::string& path);
 /// [-500, 9000] m. Throws InputError naming the file and line of the first bad line, or when the
 /// file is missing or holds no point.
 std::vector<ElevationPoint> read_xyz(const std::string& path);
+
+/// The same, streamed: calls `on_chunk` with every `chunk_points` points in file order (the last
+/// chunk may be shorter), so that a file larger than memory can be read. The callback may
+/// modify the chunk. Throws as read_xyz.
+void read_xyz_chunks(const std::string& path, std::size_t chunk_points,
+                     const std::function<void(std::vector<ElevationPoint>&)>& on_chunk);
 
 /// The CRS of XYZ points without --elevation-crs: "EPSG:5514" when every sampled point lies in
 /// S-JTSK / Krovak East North's range over Czechia (E -905 000..-430 000, N -1 230 000..-930 000,

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -53,6 +54,11 @@ struct TerrainParameters {
   double tpi_large_inner_m = 100.0, tpi_large_outer_m = 300.0;
   /// TPI is computed only where at least this share of the annulus has elevation.
   double tpi_min_valid_fraction = 0.5;
+  /// The TPI's mean and standard deviation (for standardising it) come from the cells on a
+  /// regular lattice of this spacing, metres (rounded to whole cells; the cell size: every
+  /// cell), or a finer one on grids too small to give 250 000 lattice cells. TPI itself is
+  /// computed only at those cells and where segments sample it.
+  double tpi_statistics_step_m = 20.0;
   /// Standardised TPI beyond +-this many standard deviations is "high" / "low" (Weiss: 1).
   double standard_deviations = 1.0;
   /// Smallest standard deviation used to standardise TPI, metres: in flat country the spread of
@@ -62,6 +68,10 @@ struct TerrainParameters {
   double flat_slope_deg = 5.0;
   /// A TIN triangle with a longer edge spans a gap in the points and is not interpolated, m.
   double tin_max_edge_m = 100.0;
+  /// XYZ points are binned by tile (with an overlap of tin_max_edge_m); past this much memory
+  /// for the bins, MiB (24 bytes a point), they are spilled to a temporary file and each tile
+  /// reads its own back, so files larger than memory can be used.
+  double xyz_memory_mib = 1024.0;
   /// DEM voids are filled from valid cells at most this far away, metres.
   double void_fill_max_m = 100.0;
   /// Elevation cost window along the road (as curvature), metres, and own-segment weight.
@@ -78,6 +88,42 @@ struct TerrainParameters {
 /// Slope in degrees at every cell (Horn's 3x3 finite differences, as gdaldem); NaN where a
 /// neighbour has no elevation and at the grid's edge.
 Grid slope_degrees(const Grid& elevation);
+/// The same at one cell.
+float slope_at(const Grid& elevation, std::size_t col, std::size_t row);
+
+struct TpiPrefixSums;
+
+/// TPI of single cells, computed where asked: the cell's elevation minus the mean elevation of
+/// the cells whose centres lie in the annulus inner_m < d <= outer_m (metres). Sums come from
+/// per-row prefix sums (12 bytes a cell, or a block of cells for large radii), so a cell costs
+/// O(outer_m / cell) and not O(area). Beyond ~20 cells of radius the annulus mean is computed
+/// at the centres of blocks of cells and interpolated (it is smooth); block means are kept once
+/// computed. NaN where the cell has no elevation or less than `min_valid_fraction` of the
+/// annulus has. at() is not thread-safe unless compute_all() ran first.
+class AnnulusTpi {
+ public:
+  AnnulusTpi(const Grid& elevation, double inner_m, double outer_m, double min_valid_fraction);
+  ~AnnulusTpi();
+  AnnulusTpi(const AnnulusTpi&) = delete;
+  AnnulusTpi& operator=(const AnnulusTpi&) = delete;
+
+  float at(std::size_t col, std::size_t row);
+  /// Every block mean, on both cores.
+  void compute_all();
+
+ private:
+  float block_mean(std::size_t col, std::size_t row);
+  float compute_block_mean(std::size_t col, std::size_t row) const;
+
+  const Grid& elevation_;
+  std::size_t factor_;
+  std::unique_ptr<TpiPrefixSums> prefix_;
+  std::vector<long> outer_, inner_;
+  double min_valid_fraction_;
+  double full_annulus_ = 0.0;
+  Grid block_mean_;
+  std::vector<std::uint8_t> known_;
+};
 
 /// TPI at every cell: its elevation minus the mean elevation of the cells whose centres lie in
 /// the annulus inner_m < d <= outer_m (metres). Sums come from per-row prefix sums, so a cell
@@ -134,6 +180,9 @@ struct TerrainInputs {
   std::vector<ElevationSource>
       sources;          ///< in the order given; earlier ones win where they overlap
   std::string xyz_crs;  ///< CRS of the XYZ files; empty: detect S-JTSK
+  /// Where XYZ points are spilled past terrain.xyz_memory_mib (an unnamed temporary file);
+  /// empty: the system's temporary directory.
+  std::string spill_dir;
 };
 
 struct TerrainReport {
@@ -143,7 +192,8 @@ struct TerrainReport {
   std::size_t cells_with_elevation = 0;
   std::size_t voids_filled = 0;
   std::size_t xyz_points = 0;
-  std::string xyz_crs;  ///< as used (given or detected)
+  std::size_t xyz_spilled_points = 0;  ///< written to the temporary file (0: all in memory)
+  std::string xyz_crs;                 ///< as used (given or detected)
   std::size_t segments_without_elevation = 0;
   std::size_t structure_segments = 0;  ///< bridges and tunnels, elevation from their ends
   std::vector<std::pair<std::string, std::size_t>> cells_per_source;

@@ -36,6 +36,25 @@ struct GridSpec {
 GridSpec grid_covering(const geo::UtmZone& zone, double min_e, double min_n, double max_e,
                        double max_n, double margin_m, double cell_m, double align_m = 0.0);
 
+/// Bilinear between the four cell centres around (easting_m, northing_m), each value given by
+/// `value(col, row)` (so that a grid computed only where it is sampled interpolates exactly as a
+/// whole one); NaN when outside the grid or when any of the four is NaN.
+template <typename Value>
+double bilinear(const GridSpec& spec, double easting_m, double northing_m, const Value& value) {
+  const double fx = (easting_m - spec.west_m) / spec.cell_m - 0.5;
+  const double fy = (northing_m - spec.south_m) / spec.cell_m - 0.5;
+  if (!(fx >= 0.0 && fy >= 0.0)) return std::numeric_limits<double>::quiet_NaN();
+  auto col = static_cast<std::size_t>(fx), row = static_cast<std::size_t>(fy);
+  // The last row/column centre itself is inside: interpolate in the cell below/left of it.
+  if (col + 1 == spec.cols && fx == double(col)) --col;
+  if (row + 1 == spec.rows && fy == double(row)) --row;
+  if (col + 1 >= spec.cols || row + 1 >= spec.rows) return std::numeric_limits<double>::quiet_NaN();
+  const double tx = fx - double(col), ty = fy - double(row);
+  const double z00 = value(col, row), z10 = value(col + 1, row);
+  const double z01 = value(col, row + 1), z11 = value(col + 1, row + 1);
+  return (z00 * (1 - tx) + z10 * tx) * (1 - ty) + (z01 * (1 - tx) + z11 * tx) * ty;
+}
+
 /// A float raster over a GridSpec; NaN marks "no value".
 struct Grid {
   GridSpec spec;
