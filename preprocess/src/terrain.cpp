@@ -12,6 +12,7 @@
 #include "roadcross/preprocess/progress.hpp"
 #include "roadcross/preprocess/strokes.hpp"
 #include "roadcross/preprocess/xyz_tiles.hpp"
+#include "two_cores.hpp"
 
 namespace roadcross::preprocess {
 
@@ -207,16 +208,6 @@ std::uint64_t disc_cell_count(const std::vector<long>& half) {
   std::uint64_t n = 0;
   for (const long w : half) n += static_cast<std::uint64_t>(2 * w + 1);
   return n;
-}
-
-/// Runs body(row) for every row, interleaved over two threads (each writes its own rows).
-template <typename Body>
-void for_rows_on_two_cores(std::size_t rows, const Body& body) {
-  std::thread other([&] {
-    for (std::size_t row = 1; row < rows; row += 2) body(row);
-  });
-  for (std::size_t row = 0; row < rows; row += 2) body(row);
-  other.join();
 }
 
 /// Cells per block for an annulus of outer radius `outer_cells`: the annulus mean is a smooth

@@ -10,10 +10,10 @@
 #include <algorithm>
 #include <array>
 #include <memory>
-#include <thread>
 #include <utility>
 
 #include "roadcross/preprocess/errors.hpp"
+#include "two_cores.hpp"
 
 namespace roadcross::preprocess {
 
@@ -41,16 +41,6 @@ std::size_t Grid::count_valid() const {
 }
 
 namespace {
-
-/// Runs body(row) for every row, interleaved over two threads (each writes its own rows).
-template <typename Body>
-void for_rows_on_two_cores(std::size_t rows, const Body& body) {
-  std::thread other([&] {
-    for (std::size_t row = 1; row < rows; row += 2) body(row);
-  });
-  for (std::size_t row = 0; row < rows; row += 2) body(row);
-  other.join();
-}
 
 struct GdalDatasetCloser {
   void operator()(GDALDataset* d) const { GDALClose(d); }
