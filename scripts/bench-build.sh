@@ -3,6 +3,7 @@
 # (max RSS). Usage: scripts/bench-build.sh [runs=5] [build-dir=build/release]
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/bench-common.sh
 runs=${1:-5}
 build_dir=${2:-build/release}
 tool="$build_dir/cli/roadcross-build"
@@ -10,7 +11,7 @@ tool="$build_dir/cli/roadcross-build"
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 
-echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(date -u +%F)"
+machine_line
 printf '%-48s %10s %12s\n' "input (extra arguments)" "median s" "peak RSS MiB"
 bench() {
   local label=$1; shift
@@ -21,9 +22,7 @@ bench() {
     times+=("$seconds")
     ((kib > rss)) && rss=$kib
   done
-  local median
-  median=$(printf '%s\n' "${times[@]}" | sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}')
-  printf '%-48s %10s %12.1f\n' "$label" "$median" "$(echo "$rss / 1024" | bc -l)"
+  printf '%-48s %10s %12.1f\n' "$label" "$(median "${times[@]}")" "$(echo "$rss / 1024" | bc -l)"
 }
 # Each map without and with its SRTM raster, interleaved so that the ratio compares like with like.
 bench "prague (osm xml, 651 kB)" --osm maps/prague/prague_nove_mesto_roads_2017.osm "${@:3}"

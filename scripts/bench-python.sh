@@ -8,10 +8,11 @@
 # Usage: scripts/bench-python.sh [build-dir]
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/bench-common.sh
 build_dir=${1:-build/release}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(date -u +%F), load average $(cut -d' ' -f1-3 /proc/loadavg)"
+machine_line
 "$build_dir/cli/roadcross-build" --osm maps/prague/prague_nove_mesto_roads_2017.osm -o "$work/prague.gpkg" -q
 
 echo "== C++ (runtime_bench: real time, CPU time per call)"

@@ -5,10 +5,11 @@
 # ROADCROSS_BENCH_ANYWHERE=1 queries anywhere in the extent instead of within 15 m of a road.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/bench-common.sh
 build_dir=${1:-build/release}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(date -u +%F)"
+machine_line
 run() {
   "$build_dir/tests/benchmarks/runtime_bench" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true \
     --benchmark_min_time=0.5 2>&1 | grep -E "median"

@@ -13,6 +13,7 @@
 # table, leave docs/ alone.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/bench-common.sh
 sizes=${1:-"1 10 50 200"}
 build_dir=${2:-build/release}
 tool="$build_dir/cli/roadcross-build"
@@ -36,7 +37,7 @@ d = json.load(open(sys.argv[1]))
 print("#   " + sys.argv[2] + ": " + "; ".join("%s %.2f s %.0f MiB" % (s["stage"], s["seconds"], s["peak_rss_mib"]) for s in d["stages"]))' "$work/stdout" "$1" >&2
 }
 
-echo "# machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(date -u +%F)"
+echo "# $(machine_line)"
 echo "copies,pbf_bytes,osmium_s,osmium_kib,build_s,build_kib,build_dem_s,build_dem_kib,segments,no_sight_s,no_sight_kib" | tee "$work/scale.csv"
 for n in $sizes; do
   "$make_tiled" maps/monaco/monaco.osm.pbf "$n" "$work/m$n.osm.pbf" maps/monaco/N43E007.hgt "$work/m$n.tif" >/dev/null

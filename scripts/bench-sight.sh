@@ -5,6 +5,7 @@
 # Usage: scripts/bench-sight.sh [runs=5] [build-dir=build/release]
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/bench-common.sh
 runs=${1:-5}
 build_dir=${2:-build/release}
 tool="$build_dir/cli/roadcross-build"
@@ -13,7 +14,7 @@ out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 args=(--osm maps/monaco/monaco.osm.pbf --elevation maps/monaco/N43E007.hgt -o "$out/map.gpkg" --json)
 
-echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(date -u +%F), load $(cut -d' ' -f1-3 /proc/loadavg)"
+machine_line
 with=() without=() stage=()
 for ((i = 0; i < runs; i++)); do
   "$tool" "${args[@]}" >"$out/with.json"
@@ -22,7 +23,6 @@ for ((i = 0; i < runs; i++)); do
   "$tool" "${args[@]}" --sight.enabled 0 >"$out/without.json"
   without+=("$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["seconds"])' "$out/without.json")")
 done
-median() { printf '%s\n' "$@" | sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
 w=$(median "${with[@]}") wo=$(median "${without[@]}") s=$(median "${stage[@]}")
 printf 'build with the sight stage     %8.2f s (median of %d)\n' "$w" "$runs"
 printf 'build without (--sight.enabled 0) %5.2f s\n' "$wo"
