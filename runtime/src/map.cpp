@@ -1,3 +1,4 @@
+#include <sqlite3.h>
 #include <sys/stat.h>
 
 #include <algorithm>
@@ -15,6 +16,11 @@
 #include "roadcross/schema/sqlite.hpp"
 
 namespace roadcross {
+
+bool disable_sqlite_memory_statistics() noexcept {
+  // SQLITE_MISUSE once SQLite is initialised: the setting only exists before that.
+  return sqlite3_config(SQLITE_CONFIG_MEMSTATUS, 0) == SQLITE_OK;
+}
 
 const char* to_string(StatusCode code) noexcept {
   switch (code) {
