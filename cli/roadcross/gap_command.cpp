@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "json_output.hpp"
 
 namespace roadcross::cli {
 namespace {
@@ -55,11 +56,6 @@ const char* reason_sentence(GapReason reason) {
       return "the next vehicle arrives within the HCM critical gap";
   }
   return "";
-}
-
-template <typename T>
-nlohmann::ordered_json or_null(const std::optional<T>& value) {
-  return value ? nlohmann::ordered_json(*value) : nlohmann::ordered_json(nullptr);
 }
 
 nlohmann::ordered_json decision_json(const GapDecision& d, const GapCrossing& c,

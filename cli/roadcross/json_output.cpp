@@ -1,15 +1,6 @@
 #include "json_output.hpp"
 
 namespace roadcross::cli {
-namespace {
-
-template <typename T>
-nlohmann::ordered_json or_null(const std::optional<T>& value) {
-  return value ? nlohmann::ordered_json(*value) : nlohmann::ordered_json(nullptr);
-}
-
-}  // namespace
-
 nlohmann::ordered_json road_json(const NearestRoad& road) {
   nlohmann::ordered_json out;
   out["segment_id"] = road.segment_id;

@@ -3,10 +3,17 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "roadcross/runtime.hpp"
 
 namespace roadcross::cli {
+
+/// The value, or JSON null when it is absent (a term the DB does not have, a margin never set).
+template <typename T>
+nlohmann::ordered_json or_null(const std::optional<T>& value) {
+  return value ? nlohmann::ordered_json(*value) : nlohmann::ordered_json(nullptr);
+}
 
 nlohmann::ordered_json road_json(const NearestRoad& road);
 nlohmann::ordered_json heading_json(const RoadHeading& heading);

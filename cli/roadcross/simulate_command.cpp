@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "json_output.hpp"
 
 namespace roadcross::cli {
 
@@ -79,7 +80,7 @@ nlohmann::ordered_json row_json(const Row& r) {
   out["p95_wait_s"] = r.a.p95_wait_s;
   out["mean_crossing_s"] = r.a.mean_crossing_s;
   out["acceptable_gap_share"] = r.a.acceptable_gap_share;
-  out["min_pet_s"] = r.a.min_pet_s ? nlohmann::ordered_json(*r.a.min_pet_s) : nullptr;
+  out["min_pet_s"] = or_null(r.a.min_pet_s);
   return out;
 }
 
@@ -99,7 +100,7 @@ bool print_runs(const sim::Scenario& s, const std::string& policy, double volume
     out["crossed"] = r->crossed;
     out["collision"] = r->collision;
     out["conflict"] = r->conflict;
-    out["min_pet_s"] = r->min_pet_s ? nlohmann::ordered_json(*r->min_pet_s) : nullptr;
+    out["min_pet_s"] = or_null(r->min_pet_s);
     out["waiting_s"] = r->waiting_s;
     out["crossing_s"] = r->crossing_s;
     out["acceptable_gaps_offered"] = r->acceptable_gaps_offered;
@@ -175,13 +176,11 @@ int SimulateCommand::run() {
   if (json_) {
     nlohmann::ordered_json out;
     out["place"] = place;
-    out["road"] = {
-        {"lanes", road.lanes},
-        {"width_m", road.width_m},
-        {"maxspeed_kmh", road.maxspeed_kmh},
-        {"sight_m", road.sight_m},
-        {"junction_distance_m",
-         road.junction_distance_m ? nlohmann::ordered_json(*road.junction_distance_m) : nullptr}};
+    out["road"] = {{"lanes", road.lanes},
+                   {"width_m", road.width_m},
+                   {"maxspeed_kmh", road.maxspeed_kmh},
+                   {"sight_m", road.sight_m},
+                   {"junction_distance_m", or_null(road.junction_distance_m)}};
     out["robot"] = {{"speed_mps", scenario_.robot.speed_mps},
                     {"startup_s", scenario_.robot.startup_s}};
     out["runs"] = runs_;
