@@ -74,6 +74,36 @@ TEST(Segmentation, MaxSegmentLengthIsRespected) {
   EXPECT_EQ(build(body, 100.0).graph.segments.size(), 1u);
 }
 
+TEST(Segmentation, SegmentCountIsTheFewestPartsWithinTheLimit) {
+  EXPECT_EQ(rp::segment_count_of(0.0, 10.0), 1u);  // a zero-length piece is still one segment
+  EXPECT_EQ(rp::segment_count_of(9.9, 10.0), 1u);
+  EXPECT_EQ(rp::segment_count_of(10.0, 10.0), 1u);
+  EXPECT_EQ(rp::segment_count_of(10.1, 10.0), 2u);
+  EXPECT_EQ(rp::segment_count_of(20.000000001, 10.0), 2u);  // rounding, not a third part
+  EXPECT_EQ(rp::segment_count_of(20.001, 10.0), 3u);
+  EXPECT_EQ(rp::segment_count_of(kStraightLength_m, 10.0), 10u);
+}
+
+TEST(Segmentation, SegmentTableIsAllocatedAtItsExactSize) {
+  // Counted before cutting: capacity == size (a miscount would grow or over-allocate it), and
+  // each piece's count is what segment_count_of gives for its length.
+  const Built b =
+      build(rt::osm_node(1, 50.0, 14.399) + rt::osm_node(2, 50.0, 14.4) +
+            rt::osm_node(3, 50.0, 14.401) + rt::osm_node(4, 50.001, 14.4) +
+            rt::osm_node(5, 50.0015, 14.4007) + rt::osm_way(10, "1 2 3", "highway=residential") +
+            rt::osm_way(20, "2 4 5", "highway=service"));
+  ASSERT_EQ(b.graph.pieces.size(), 3u);
+  EXPECT_EQ(b.graph.segments.capacity(), b.graph.segments.size());
+  EXPECT_EQ(b.graph.pieces.capacity(), b.graph.pieces.size());
+  std::size_t expected_first = 0;
+  for (const rp::RoadPiece& piece : b.graph.pieces) {
+    EXPECT_EQ(piece.segment_count, rp::segment_count_of(piece.length_m, 10.0));
+    EXPECT_EQ(piece.first_segment, expected_first);
+    expected_first += piece.segment_count;
+  }
+  EXPECT_EQ(expected_first, b.graph.segments.size());
+}
+
 TEST(Segmentation, InteriorVerticesAreKept) {
   // A way with a kink at node 2 (1 -> 2 east, 2 -> 3 north, ~0.0005 deg each): one piece,
   // and the segment containing node 2 keeps it as a vertex, so no corner is cut.

@@ -126,6 +126,11 @@ geo::UtmZone choose_utm_zone(const RoadNetwork& network);
 RoadGraph build_road_graph(const RoadNetwork& network, geo::UtmZone zone,
                            double max_segment_length_m);
 
+/// Number of equal segments a piece of `piece_length_m` (metres, >= 0) is cut into: the fewest
+/// of at most `max_segment_length_m` (metres, > 0), at least 1; a piece longer than the limit
+/// by less than a nanometre per limit (rounding) is not cut once more.
+std::size_t segment_count_of(double piece_length_m, double max_segment_length_m) noexcept;
+
 /// Length of a polyline, metres.
 double polyline_length_m(std::span<const PlanePoint> points) noexcept;
 
