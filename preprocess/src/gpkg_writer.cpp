@@ -118,7 +118,7 @@ void bind_segment(sqlite::Statement& insert, const Segment& s, std::int32_t srs_
   bind_maybe(insert, i++, s.grade_percent);
   bind_maybe(insert, i++, s.tpi_small_m);
   bind_maybe(insert, i++, s.tpi_large_m);
-  bind_text(insert, i++, s.landform);
+  bind_text(insert, i++, s.landform.text());
   bind_maybe(insert, i++, s.elevation_cost);
   bind_maybe(insert, i++, s.maxspeed_kmh);
   bind_maybe(insert, i++, s.lanes);

@@ -1,6 +1,7 @@
 #include "roadcross/preprocess/segments.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -8,6 +9,34 @@
 #include "roadcross/preprocess/road_network.hpp"
 
 namespace roadcross::preprocess {
+
+// A regression guard: the segment table is most of the build's peak memory.
+static_assert(sizeof(Segment) <= 224, "Segment grew: every byte costs ~10 MB a country");
+static_assert(sizeof(SegmentPoints) == 40);
+
+SegmentPoints::SegmentPoints(const SegmentPoints& other) : size_(other.size_) {
+  if (on_heap()) {
+    storage_.heap = new PlanePoint[std::bit_ceil(size_)];
+    std::copy(other.begin(), other.end(), storage_.heap);
+  } else {
+    storage_ = other.storage_;
+  }
+}
+
+void SegmentPoints::push_back(PlanePoint point) {
+  if (size_ < kInlinePoints) {
+    storage_.inline_points[size_++] = point;
+    return;
+  }
+  // Full when the inline points are, or when the heap block's bit_ceil(size_) == size_.
+  if (size_ == kInlinePoints || std::has_single_bit(size_)) {
+    PlanePoint* grown = new PlanePoint[std::bit_ceil(size_ + 1)];
+    std::copy(begin(), end(), grown);
+    if (on_heap()) delete[] storage_.heap;
+    storage_.heap = grown;
+  }
+  storage_.heap[size_++] = point;
+}
 
 double polyline_length_m(std::span<const PlanePoint> points) noexcept {
   double length = 0.0;
@@ -131,10 +160,9 @@ void cut_piece(RoadGraph& graph, std::size_t piece_index, const RoadWay& way, do
   piece.first_segment = graph.segments.size();
   piece.segment_count = count;
 
-  const std::string_view highway = *graph.text.intern(way.highway);
+  const InternedText highway = graph.text.intern_text(way.highway);
   const std::string_view name_tag = tag_value(way.tags, "name");
-  const std::string_view name =
-      name_tag.empty() ? std::string_view() : *graph.text.intern(name_tag);
+  const InternedText name = name_tag.empty() ? InternedText() : graph.text.intern_text(name_tag);
   const bool oneway = way_is_oneway(way.tags);
   const bool tunnel = way_is_tunnel(way.tags);
   const bool bridge = is_yes(tag_value(way.tags, "bridge"));

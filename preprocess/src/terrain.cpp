@@ -25,6 +25,23 @@ constexpr std::array<std::string_view, kLandformCount> kLandformNames = {
     "open_slope", "upper_slope",       "local_ridge",     "midslope_ridge",  "mountain_top"};
 }  // namespace
 
+LandformLabel::LandformLabel(Landform landform) noexcept
+    : code_(static_cast<std::uint8_t>(1 + static_cast<std::uint8_t>(landform))) {}
+
+LandformLabel LandformLabel::structure(bool tunnel) noexcept {
+  LandformLabel label;
+  label.code_ = tunnel ? kTunnel : kBridge;
+  return label;
+}
+
+const char* LandformLabel::text() const noexcept {
+  static_assert(kTunnel == 1 + kLandformCount);
+  if (code_ == kNone) return nullptr;
+  if (code_ == kTunnel) return "tunnel";
+  if (code_ == kBridge) return "bridge";
+  return kLandformNames[code_ - 1u].data();  // the names are literals: NUL-terminated
+}
+
 std::string_view landform_name(Landform landform) noexcept {
   return kLandformNames[static_cast<std::size_t>(landform)];
 }
@@ -386,7 +403,7 @@ void assign_structure_run(RoadGraph& graph, const Stroke& stroke, std::size_t fi
     s.elevation_m = z0 + t * (z1 - z0);
     s.grade_percent = 100.0 * (ss.reversed ? -grade_along_stroke : grade_along_stroke);
     s.slope_deg = std::atan(std::abs(grade_along_stroke)) * kRadToDeg;
-    s.landform = s.tunnel ? "tunnel" : "bridge";
+    s.landform = LandformLabel::structure(s.tunnel);
   }
 }
 
@@ -435,7 +452,7 @@ void assign_terrain(RoadGraph& graph, const std::vector<TerrainSample>& samples,
     const Landform landform = classify_landform((*s.tpi_small_m - z.small.mean) / z.small_sd_used,
                                                 (*s.tpi_large_m - z.large.mean) / z.large_sd_used,
                                                 s.slope_deg.value_or(0.0), p);
-    s.landform = landform_name(landform).data();  // names are literals: NUL-terminated
+    s.landform = LandformLabel(landform);
     landform_cost[i] = p.landform_cost[static_cast<std::size_t>(landform)];
     if (is_crest_or_dip(landform)) s.reasons.add("CREST_OR_DIP");
   }

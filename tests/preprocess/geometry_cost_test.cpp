@@ -57,7 +57,7 @@ struct GraphBuilder {
       seg.piece_index = static_cast<std::uint32_t>(graph.pieces.size());
       seg.offset_in_piece_m = a;
       seg.length_m = b - a;
-      seg.highway = *graph.text.intern(highway);
+      seg.highway = graph.text.intern_text(highway);
       seg.from_node_id = node;
       seg.to_node_id = (k + 1 == count) ? to : next_split--;
       node = seg.to_node_id;

@@ -236,3 +236,36 @@ TEST(Segmentation, FileWithoutRoadsIsAnError) {
 }
 
 }  // namespace
+
+TEST(SegmentPoints, KeepsEveryPointThroughGrowthCopiesAndMoves) {
+  // 2 points inline, then heap blocks of 4, 8, 16: each push_back must keep the earlier ones.
+  rp::SegmentPoints points;
+  for (int i = 0; i < 11; ++i) {
+    points.push_back({1.0 * i, -2.0 * i});
+    ASSERT_EQ(points.size(), static_cast<std::size_t>(i + 1));
+    for (int k = 0; k <= i; ++k) {
+      EXPECT_EQ(points[static_cast<std::size_t>(k)].x, 1.0 * k);
+      EXPECT_EQ(points[static_cast<std::size_t>(k)].y, -2.0 * k);
+    }
+  }
+  const rp::SegmentPoints copy = points;  // a separate heap block
+  points.push_back(points.front());       // an element of itself, while growing
+  EXPECT_EQ(points.size(), 12u);
+  EXPECT_EQ(points.back().x, 0.0);
+  ASSERT_EQ(copy.size(), 11u);
+  EXPECT_EQ(copy.back().x, 10.0);
+  EXPECT_NE(copy.data(), points.data());
+
+  rp::SegmentPoints moved = std::move(points);
+  EXPECT_EQ(moved.size(), 12u);
+  EXPECT_EQ(moved[10].y, -20.0);
+  rp::SegmentPoints two;
+  two.push_back({5.0, 6.0});
+  two.push_back({7.0, 8.0});
+  moved = two;  // heap -> inline
+  ASSERT_EQ(moved.size(), 2u);
+  EXPECT_EQ(moved.back().x, 7.0);
+  two = copy;  // inline -> heap
+  ASSERT_EQ(two.size(), 11u);
+  EXPECT_EQ(two[3].y, -6.0);
+}

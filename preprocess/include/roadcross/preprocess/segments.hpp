@@ -3,7 +3,7 @@
 // nodes shared by ways); pieces are cut into segments of at most max_segment_length_m.
 #pragma once
 
-#include <boost/container/small_vector.hpp>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -11,6 +11,7 @@
 #include <string_view>
 #include <unordered_map>
 #include <unordered_set>
+#include <utility>
 #include <vector>
 
 #include "roadcross/geo.hpp"
@@ -24,29 +25,104 @@ using schema::PlanePoint;
 
 struct RoadNetwork;
 
-/// A segment's line: almost always 2 points (a straight 10 m cut), kept inline.
-using SegmentPoints = boost::container::small_vector<PlanePoint, 2>;
+/// A segment's line, UTM metres: almost always 2 points (a straight cut), kept inline; a cut
+/// that keeps OSM vertices has its points on the heap. 40 bytes (boost's small_vector of 2
+/// takes 56): no capacity field, a heap block always holds std::bit_ceil(size()) points.
+class SegmentPoints {
+ public:
+  SegmentPoints() noexcept = default;
+  SegmentPoints(const SegmentPoints& other);
+  SegmentPoints(SegmentPoints&& other) noexcept : storage_(other.storage_), size_(other.size_) {
+    other.size_ = 0;  // the heap block, if any, now belongs to this one
+  }
+  SegmentPoints& operator=(SegmentPoints other) noexcept {
+    std::swap(storage_, other.storage_);
+    std::swap(size_, other.size_);
+    return *this;
+  }
+  ~SegmentPoints() {
+    if (on_heap()) delete[] storage_.heap;
+  }
+
+  void push_back(PlanePoint point);
+
+  std::size_t size() const noexcept { return size_; }
+  bool empty() const noexcept { return size_ == 0; }
+  const PlanePoint* data() const noexcept {
+    return on_heap() ? storage_.heap : storage_.inline_points;
+  }
+  const PlanePoint* begin() const noexcept { return data(); }
+  const PlanePoint* end() const noexcept { return data() + size_; }
+  const PlanePoint& operator[](std::size_t i) const noexcept { return data()[i]; }
+  const PlanePoint& front() const noexcept { return data()[0]; }
+  const PlanePoint& back() const noexcept { return data()[size_ - 1]; }
+
+ private:
+  static constexpr std::uint32_t kInlinePoints = 2;
+  bool on_heap() const noexcept { return size_ > kInlinePoints; }
+
+  union Storage {
+    Storage() noexcept : inline_points{} {}
+    PlanePoint inline_points[kInlinePoints];
+    PlanePoint* heap;  ///< when size_ > kInlinePoints: std::bit_ceil(size_) points
+  } storage_;
+  std::uint32_t size_ = 0;
+};
+
+/// A text interned in a TextPool (below), or none: 8 bytes where a std::string_view takes 16.
+/// Reads as a std::string_view (empty for none); stays valid for the pool's lifetime.
+class InternedText {
+ public:
+  InternedText() noexcept = default;
+  explicit InternedText(const std::string* interned) noexcept : text_(interned) {}
+
+  std::string_view view() const noexcept {
+    return text_ ? std::string_view(*text_) : std::string_view();
+  }
+  operator std::string_view() const noexcept { return view(); }
+  bool empty() const noexcept { return view().empty(); }
+  friend bool operator==(InternedText a, std::string_view b) noexcept { return a.view() == b; }
+
+ private:
+  const std::string* text_ = nullptr;
+};
+
+enum class Landform : std::uint8_t;  // terrain.hpp
+
+/// A segment's landform column in 1 byte (a name pointer takes 8): none (no elevation data),
+/// one of the ten Landform classes of terrain.hpp, or the structure the segment is on.
+class LandformLabel {
+ public:
+  LandformLabel() noexcept = default;
+  explicit LandformLabel(Landform landform) noexcept;
+  /// "tunnel" or "bridge".
+  static LandformLabel structure(bool tunnel) noexcept;
+  /// The text written to the DB (a static NUL-terminated name), or nullptr for none.
+  const char* text() const noexcept;
+
+ private:
+  /// 0: none; 1..10: the Landform class + 1; then the structures.
+  static constexpr std::uint8_t kNone = 0, kTunnel = 11, kBridge = 12;
+  std::uint8_t code_ = kNone;
+};
 
 /// One short road segment and every cost term the stages fill in. Kept compact (terms as
-/// Maybe<> numbers, reasons as a bit set, texts interned in the graph): a country has tens of
-/// millions of them.
+/// Maybe<> numbers, reasons as a bit set, texts interned in the graph, fields ordered by size so
+/// that there is no padding; 272 bytes before, 224 now): a country has tens of millions.
 struct Segment {
-  std::int64_t id = 0;             ///< 1-based, stable for identical inputs
-  std::uint32_t way_index = 0;     ///< index into RoadNetwork::ways
-  std::uint32_t piece_index = 0;   ///< index into RoadGraph::pieces
-  double offset_in_piece_m = 0.0;  ///< distance from the piece's start to this segment's start
+  std::int64_t id = 0;  ///< 1-based, stable for identical inputs
   std::int64_t osm_way_id = 0;
-  std::string_view highway;       ///< highway=* value, interned in RoadGraph::text
-  std::string_view name;          ///< the way's name, interned in RoadGraph::text (empty: none)
   std::int64_t from_node_id = 0;  ///< OSM node id, or negative for a split point inside a way
   std::int64_t to_node_id = 0;
-  SegmentPoints points;  ///< UTM metres, >= 2 points
+  double offset_in_piece_m = 0.0;  ///< distance from the piece's start to this segment's start
   double length_m = 0.0;
-  bool oneway = false;
-  bool tunnel = false;
-  bool bridge = false;
-  bool override_no_crossing = false;     ///< an operator override forbids crossing here
-  bool override_force_suitable = false;  ///< an operator override declares it suitable
+  SegmentPoints points;  ///< UTM metres, >= 2 points
+  InternedText highway;  ///< highway=* value, interned in RoadGraph::text
+  InternedText name;     ///< the way's name, interned in RoadGraph::text (empty: none)
+  const std::string* context_defaulted = nullptr;  ///< interned in RoadGraph::text, or none
+  const std::string* override_note = nullptr;      ///< interned in RoadGraph::text, or none
+  std::uint32_t way_index = 0;                     ///< index into RoadNetwork::ways
+  std::uint32_t piece_index = 0;                   ///< index into RoadGraph::pieces
 
   // Geometry cost.
   MaybeInt class_cost;
@@ -56,7 +132,6 @@ struct Segment {
   MaybeInt curvature_cost;
   // Terrain.
   MaybeFloat elevation_m, slope_deg, grade_percent, tpi_small_m, tpi_large_m;
-  const char* landform = nullptr;  ///< a static class name ("plains", "bridge", ...) or none
   MaybeInt elevation_cost;
   // Context.
   MaybeFloat maxspeed_kmh;
@@ -64,13 +139,18 @@ struct Segment {
   MaybeFloat width_m;
   MaybeInt context_score;
   MaybeFloat crossing_distance_m;
-  const std::string* context_defaulted = nullptr;  ///< interned in RoadGraph::text, or none
-  const std::string* override_note = nullptr;      ///< interned in RoadGraph::text, or none
   // Sight distance (forward / backward: looking along / against the way's direction).
   MaybeFloat sight_forward_m, sight_backward_m, sight_min_m, required_sight_m;
   // Result.
   MaybeInt rank, score;
   ReasonSet reasons;
+
+  LandformLabel landform;  ///< terrain: the landform class or structure, or none
+  bool oneway : 1 = false;
+  bool tunnel : 1 = false;
+  bool bridge : 1 = false;
+  bool override_no_crossing : 1 = false;     ///< an operator override forbids crossing here
+  bool override_force_suitable : 1 = false;  ///< an operator override declares it suitable
 
   /// The points as a span (what geometry functions take).
   std::span<const PlanePoint> line() const noexcept { return {points.data(), points.size()}; }
@@ -81,6 +161,7 @@ struct Segment {
 class TextPool {
  public:
   const std::string* intern(std::string_view text) { return &*texts_.emplace(text).first; }
+  InternedText intern_text(std::string_view text) { return InternedText(intern(text)); }
 
  private:
   std::unordered_set<std::string> texts_;
