@@ -11,7 +11,7 @@
 namespace roadcross::preprocess {
 
 // A regression guard: the segment table is most of the build's peak memory.
-static_assert(sizeof(Segment) <= 224, "Segment grew: every byte costs ~10 MB a country");
+static_assert(sizeof(Segment) <= 200, "Segment grew: every byte costs ~10 MB a country");
 static_assert(sizeof(SegmentPoints) == 40);
 
 SegmentPoints::SegmentPoints(const SegmentPoints& other) : size_(other.size_) {
@@ -174,8 +174,7 @@ void cut_piece(RoadGraph& graph, std::size_t piece_index, const RoadWay& way, do
     const double end_m = (k + 1 == count) ? piece.length_m : part_m * static_cast<double>(k + 1);
     Segment segment;
     segment.id = static_cast<std::int64_t>(graph.segments.size()) + 1;
-    // 32-bit indices (checked in build_road_graph): 4 G ways or pieces is beyond any planet file.
-    segment.way_index = static_cast<std::uint32_t>(piece.way_index);
+    // A 32-bit index (checked in build_road_graph).
     segment.piece_index = static_cast<std::uint32_t>(piece_index);
     segment.offset_in_piece_m = start_m;
     segment.osm_way_id = way.osm_id;
@@ -268,6 +267,9 @@ RoadGraph build_road_graph(const RoadNetwork& network, geo::UtmZone zone,
     }
   }
   graph.pieces.shrink_to_fit();
+  if (graph.pieces.size() > std::numeric_limits<std::uint32_t>::max()) {
+    throw std::length_error("more than 4 294 967 295 road pieces: Segment::piece_index is 32-bit");
+  }
   std::vector<std::int64_t>().swap(junctions);
 
   // Pass 3: the segments, in piece order.

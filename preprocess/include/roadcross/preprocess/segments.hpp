@@ -108,7 +108,7 @@ class LandformLabel {
 
 /// One short road segment and every cost term the stages fill in. Kept compact (terms as
 /// Maybe<> numbers, reasons as a bit set, texts interned in the graph, fields ordered by size so
-/// that there is no padding; 272 bytes before, 224 now): a country has tens of millions.
+/// that there is no padding; 272 bytes before, 200 now): a country has tens of millions.
 struct Segment {
   std::int64_t id = 0;  ///< 1-based, stable for identical inputs
   std::int64_t osm_way_id = 0;
@@ -121,31 +121,31 @@ struct Segment {
   InternedText name;     ///< the way's name, interned in RoadGraph::text (empty: none)
   const std::string* context_defaulted = nullptr;  ///< interned in RoadGraph::text, or none
   const std::string* override_note = nullptr;      ///< interned in RoadGraph::text, or none
-  std::uint32_t way_index = 0;                     ///< index into RoadNetwork::ways
-  std::uint32_t piece_index = 0;                   ///< index into RoadGraph::pieces
+  std::uint32_t piece_index = 0;  ///< index into RoadGraph::pieces (the way: its way_index)
 
   // Geometry cost.
-  MaybeInt class_cost;
   MaybeFloat junction_distance_m;
   MaybeFloat radius_m;
-  MaybeInt curvature_level;
-  MaybeInt curvature_cost;
   // Terrain.
   MaybeFloat elevation_m, slope_deg, grade_percent, tpi_small_m, tpi_large_m;
-  MaybeInt elevation_cost;
   // Context.
   MaybeFloat maxspeed_kmh;
   MaybeInt lanes;
   MaybeFloat width_m;
-  MaybeInt context_score;
+  MaybeInt context_score;  ///< an int: operator overrides add to it without bound
   MaybeFloat crossing_distance_m;
   // Sight distance (forward / backward: looking along / against the way's direction).
   MaybeFloat sight_forward_m, sight_backward_m, sight_min_m, required_sight_m;
-  // Result.
-  MaybeInt rank, score;
   ReasonSet reasons;
 
-  LandformLabel landform;  ///< terrain: the landform class or structure, or none
+  // The 1-byte fields last (no padding between them and the 4-byte ones).
+  MaybeSmallInt class_cost;       ///< geometry: 0..10 (the class cost parameters' range)
+  MaybeSmallInt curvature_level;  ///< geometry: 0..5
+  MaybeSmallInt curvature_cost;   ///< geometry: 0..14 (clamped)
+  MaybeSmallInt elevation_cost;   ///< terrain: 0..9 (clamped)
+  MaybeSmallInt rank;             ///< result: 0..14 (clamped)
+  MaybeSmallInt score;            ///< result: 15 - rank
+  LandformLabel landform;         ///< terrain: the landform class or structure, or none
   bool oneway : 1 = false;
   bool tunnel : 1 = false;
   bool bridge : 1 = false;
