@@ -50,7 +50,7 @@ std::vector<std::string> run_sight_stage(const BuildOptions& options, RoadGraph&
   const SightParameters& p = options.parameters.sight;
   PlanePoint min{1e300, 1e300}, max{-1e300, -1e300};
   for (const Segment& s : graph.segments) {
-    for (const PlanePoint& q : s.points) {
+    for (const PlanePoint& q : graph.line(s)) {
       min = {std::min(min.x, q.x), std::min(min.y, q.y)};
       max = {std::max(max.x, q.x), std::max(max.y, q.y)};
     }

@@ -1,42 +1,17 @@
 #include "roadcross/preprocess/segments.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 
 #include "roadcross/preprocess/road_network.hpp"
 
 namespace roadcross::preprocess {
 
 // A regression guard: the segment table is most of the build's peak memory.
-static_assert(sizeof(Segment) <= 200, "Segment grew: every byte costs ~10 MB a country");
-static_assert(sizeof(SegmentPoints) == 40);
-
-SegmentPoints::SegmentPoints(const SegmentPoints& other) : size_(other.size_) {
-  if (on_heap()) {
-    storage_.heap = new PlanePoint[std::bit_ceil(size_)];
-    std::copy(other.begin(), other.end(), storage_.heap);
-  } else {
-    storage_ = other.storage_;
-  }
-}
-
-void SegmentPoints::push_back(PlanePoint point) {
-  if (size_ < kInlinePoints) {
-    storage_.inline_points[size_++] = point;
-    return;
-  }
-  // Full when the inline points are, or when the heap block's bit_ceil(size_) == size_.
-  if (size_ == kInlinePoints || std::has_single_bit(size_)) {
-    PlanePoint* grown = new PlanePoint[std::bit_ceil(size_ + 1)];
-    std::copy(begin(), end(), grown);
-    if (on_heap()) delete[] storage_.heap;
-    storage_.heap = grown;
-  }
-  storage_.heap[size_++] = point;
-}
+static_assert(sizeof(Segment) <= 168, "Segment grew: every byte costs ~10 MB a country");
 
 double polyline_length_m(std::span<const PlanePoint> points) noexcept {
   double length = 0.0;
@@ -167,6 +142,7 @@ void cut_piece(RoadGraph& graph, std::size_t piece_index, const RoadWay& way, do
   const bool tunnel = way_is_tunnel(way.tags);
   const bool bridge = is_yes(tag_value(way.tags, "bridge"));
   std::size_t edge = 0;
+  std::vector<PlanePoint>& line = graph.segment_points;
   std::int64_t from_node = piece.from_node_id;
   PlanePoint from_point = pts.front();
   for (std::size_t k = 0; k < count; ++k) {
@@ -184,16 +160,27 @@ void cut_piece(RoadGraph& graph, std::size_t piece_index, const RoadWay& way, do
     segment.tunnel = tunnel;
     segment.bridge = bridge;
     segment.from_node_id = from_node;
-    segment.points.push_back(from_point);
+    // The line starts at the previous segment's last point (already in the pool), if any.
+    if (k == 0) line.push_back(from_point);
+    const std::size_t first_point = line.size() - 1;
     // Interior OSM vertices strictly inside (start, end) keep the road's shape.
     std::size_t vertex = edge + 1;
     while (vertex + 1 < pts.size() && cumulative[vertex] <= start_m) ++vertex;
     for (; vertex + 1 < pts.size() && cumulative[vertex] < end_m; ++vertex) {
-      segment.points.push_back(pts[vertex]);
+      line.push_back(pts[vertex]);
     }
     const bool last = (k + 1 == count);
     const PlanePoint to_point = last ? pts.back() : point_at(pts, cumulative, end_m, edge);
-    segment.points.push_back(to_point);
+    line.push_back(to_point);
+    const std::size_t point_count = line.size() - first_point;
+    if (line.size() > std::numeric_limits<std::uint32_t>::max() ||
+        point_count > std::numeric_limits<std::uint16_t>::max()) {
+      throw std::length_error("OSM way " + std::to_string(way.osm_id) +
+                              ": more than 65 535 points in one segment or 4 294 967 295 in "
+                              "all: segment line indices are 16/32-bit");
+    }
+    segment.first_point = static_cast<std::uint32_t>(first_point);
+    segment.point_count = static_cast<std::uint16_t>(point_count);
     segment.to_node_id = last ? piece.to_node_id : next_split_id--;
     segment.length_m = end_m - start_m;
     from_node = segment.to_node_id;
@@ -243,7 +230,7 @@ RoadGraph build_road_graph(const RoadNetwork& network, geo::UtmZone zone,
   // the segment table is allocated once at its exact size (growing it by doubling would hold
   // the old and the new table at once: 1.5 times the table at the peak).
   std::uint64_t ignored_refs = 0;
-  std::size_t segment_total = 0;
+  std::size_t segment_total = 0, point_total = 0;
   for (std::size_t w = 0; w < network.ways.size(); ++w) {
     for (const NodeRun& run : located_runs(network.ways[w], projected, ignored_refs)) {
       std::size_t start = 0;
@@ -261,6 +248,8 @@ RoadGraph build_road_graph(const RoadNetwork& network, geo::UtmZone zone,
         piece.length_m = polyline_length_m(piece.points);
         piece.segment_count = segment_count_of(piece.length_m, max_segment_length_m);
         segment_total += piece.segment_count;
+        // At most: the start, each segment's end and every inner vertex once.
+        point_total += piece.segment_count + piece.points.size() - 1;
         graph.pieces.push_back(std::move(piece));
         start = i;
       }
@@ -274,6 +263,7 @@ RoadGraph build_road_graph(const RoadNetwork& network, geo::UtmZone zone,
 
   // Pass 3: the segments, in piece order.
   graph.segments.reserve(segment_total);
+  graph.segment_points.reserve(point_total);
   std::int64_t next_split_id = -1;
   for (std::size_t p = 0; p < graph.pieces.size(); ++p) {
     const RoadPiece& piece = graph.pieces[p];

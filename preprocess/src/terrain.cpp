@@ -409,19 +409,20 @@ void assign_structure_run(RoadGraph& graph, const Stroke& stroke, std::size_t fi
 
 }  // namespace
 
-PlanePoint segment_midpoint(const Segment& s) {
-  return point_along(s.line(), 0.5 * s.length_m);
+PlanePoint segment_midpoint(const RoadGraph& graph, const Segment& s) {
+  return point_along(graph.line(s), 0.5 * s.length_m);
 }
 
 void sample_terrain(const RoadGraph& graph, const TerrainModel& m,
                     const std::vector<std::size_t>& segments, std::vector<TerrainSample>& samples) {
   for (const std::size_t i : segments) {
     const Segment& s = graph.segments[i];
-    const PlanePoint mid = segment_midpoint(s);
+    const PlanePoint mid = segment_midpoint(graph, s);
     TerrainSample& t = samples[i];
     t.z_mid_m = static_cast<float>(m.elevation.sample(mid.x, mid.y));
-    t.z_start_m = static_cast<float>(m.elevation.sample(s.points.front().x, s.points.front().y));
-    t.z_end_m = static_cast<float>(m.elevation.sample(s.points.back().x, s.points.back().y));
+    const std::span<const PlanePoint> line = graph.line(s);
+    t.z_start_m = static_cast<float>(m.elevation.sample(line.front().x, line.front().y));
+    t.z_end_m = static_cast<float>(m.elevation.sample(line.back().x, line.back().y));
     t.slope_deg = static_cast<float>(m.slope.sample(mid.x, mid.y));
     t.tpi_small_m = static_cast<float>(m.tpi_small.sample(mid.x, mid.y));
     t.tpi_large_m = static_cast<float>(m.tpi_large.sample(mid.x, mid.y));
@@ -517,7 +518,7 @@ struct Bounds {
 Bounds road_bounds(const RoadGraph& graph) {
   Bounds b;
   for (const Segment& s : graph.segments) {
-    for (const PlanePoint& q : s.points) {
+    for (const PlanePoint& q : graph.line(s)) {
       b.min_e = std::min(b.min_e, q.x), b.max_e = std::max(b.max_e, q.x);
       b.min_n = std::min(b.min_n, q.y), b.max_n = std::max(b.max_n, q.y);
     }
@@ -631,7 +632,7 @@ struct TileTpi {
       }
     }
     for (const std::size_t i : segments) {
-      const PlanePoint mid = segment_midpoint(graph.segments[i]);
+      const PlanePoint mid = segment_midpoint(graph, graph.segments[i]);
       samples[i].*field = static_cast<float>(bilinear(
           g, mid.x, mid.y, [&](std::size_t c, std::size_t r) { return annulus.at(c, r); }));
     }
@@ -669,7 +670,7 @@ TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
       1, static_cast<std::size_t>(std::ceil((roads.max_n - roads.min_n) / p.tile_size_m)));
   std::vector<std::vector<std::size_t>> segments_of_tile(layout.cols * layout.rows);
   for (std::size_t i = 0; i < graph.segments.size(); ++i) {
-    segments_of_tile[layout.tile_of(segment_midpoint(graph.segments[i]))].push_back(i);
+    segments_of_tile[layout.tile_of(segment_midpoint(graph, graph.segments[i]))].push_back(i);
   }
 
   const std::size_t factor = std::max<std::size_t>(
@@ -805,11 +806,12 @@ TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
     // Elevations and slope (Horn's, at the four cells around the midpoint).
     for (const std::size_t i : tile_segments) {
       const Segment& s = graph.segments[i];
-      const PlanePoint mid = segment_midpoint(s);
+      const PlanePoint mid = segment_midpoint(graph, s);
       TerrainSample& t = samples[i];
       t.z_mid_m = static_cast<float>(elevation.sample(mid.x, mid.y));
-      t.z_start_m = static_cast<float>(elevation.sample(s.points.front().x, s.points.front().y));
-      t.z_end_m = static_cast<float>(elevation.sample(s.points.back().x, s.points.back().y));
+      const std::span<const PlanePoint> line = graph.line(s);
+      t.z_start_m = static_cast<float>(elevation.sample(line.front().x, line.front().y));
+      t.z_end_m = static_cast<float>(elevation.sample(line.back().x, line.back().y));
       t.slope_deg = static_cast<float>(bilinear(g, mid.x, mid.y, [&](std::size_t c, std::size_t r) {
         return slope_at(elevation, c, r);
       }));

@@ -49,7 +49,7 @@ TEST(Segmentation, StraightWayIsCutIntoEqualSegments) {
   ASSERT_EQ(b.graph.segments.size(), 10u);
   for (const rp::Segment& s : b.graph.segments) {
     EXPECT_NEAR(s.length_m, kStraightLength_m / 10, 1e-4);
-    EXPECT_NEAR(rp::polyline_length_m(s.line()), s.length_m, 1e-6);
+    EXPECT_NEAR(rp::polyline_length_m(b.graph.line(s)), s.length_m, 1e-6);
     EXPECT_EQ(s.osm_way_id, 10);
     EXPECT_EQ(s.highway, "residential");
     EXPECT_EQ(s.name, "Straight");
@@ -60,7 +60,8 @@ TEST(Segmentation, StraightWayIsCutIntoEqualSegments) {
   for (std::size_t i = 1; i < b.graph.segments.size(); ++i) {
     EXPECT_EQ(b.graph.segments[i].from_node_id, b.graph.segments[i - 1].to_node_id);
     EXPECT_LT(b.graph.segments[i].from_node_id, 0);  // a split point, not an OSM node
-    EXPECT_EQ(b.graph.segments[i].points.front().x, b.graph.segments[i - 1].points.back().x);
+    EXPECT_EQ(b.graph.line(b.graph.segments[i]).front().x,
+              b.graph.line(b.graph.segments[i - 1]).back().x);
   }
   EXPECT_EQ(degree(b.graph, 1), 1);
   EXPECT_EQ(degree(b.graph, 2), 1);
@@ -102,6 +103,21 @@ TEST(Segmentation, SegmentTableIsAllocatedAtItsExactSize) {
     expected_first += piece.segment_count;
   }
   EXPECT_EQ(expected_first, b.graph.segments.size());
+  // The lines: one after the other, each segment starting where the one before it in its
+  // piece ends (the shared point stored once), a piece's first segment on a point of its own.
+  std::size_t expected_point = 0;
+  for (const rp::RoadPiece& piece : b.graph.pieces) {
+    for (std::size_t k = 0; k < piece.segment_count; ++k) {
+      const rp::Segment& s = b.graph.segments[piece.first_segment + k];
+      EXPECT_EQ(s.first_point, expected_point);
+      ASSERT_GE(s.point_count, 2u);
+      expected_point += s.point_count - 1u;
+    }
+    ++expected_point;
+  }
+  EXPECT_EQ(expected_point, b.graph.segment_points.size());
+  EXPECT_EQ(b.graph.line(b.graph.segments.front()).front().x, b.graph.pieces[0].points.front().x);
+  EXPECT_EQ(b.graph.line(b.graph.segments.back()).back().y, b.graph.pieces[2].points.back().y);
 }
 
 TEST(Segmentation, InteriorVerticesAreKept) {
@@ -115,8 +131,8 @@ TEST(Segmentation, InteriorVerticesAreKept) {
   bool kink_kept = false;
   for (const rp::Segment& s : b.graph.segments) {
     total += s.length_m;
-    EXPECT_NEAR(rp::polyline_length_m(s.line()), s.length_m, 1e-6);
-    if (s.points.size() == 3) kink_kept = true;
+    EXPECT_NEAR(rp::polyline_length_m(b.graph.line(s)), s.length_m, 1e-6);
+    if (s.point_count == 3) kink_kept = true;
   }
   EXPECT_NEAR(total, b.graph.pieces[0].length_m, 1e-6);
   EXPECT_TRUE(kink_kept);
@@ -236,36 +252,3 @@ TEST(Segmentation, FileWithoutRoadsIsAnError) {
 }
 
 }  // namespace
-
-TEST(SegmentPoints, KeepsEveryPointThroughGrowthCopiesAndMoves) {
-  // 2 points inline, then heap blocks of 4, 8, 16: each push_back must keep the earlier ones.
-  rp::SegmentPoints points;
-  for (int i = 0; i < 11; ++i) {
-    points.push_back({1.0 * i, -2.0 * i});
-    ASSERT_EQ(points.size(), static_cast<std::size_t>(i + 1));
-    for (int k = 0; k <= i; ++k) {
-      EXPECT_EQ(points[static_cast<std::size_t>(k)].x, 1.0 * k);
-      EXPECT_EQ(points[static_cast<std::size_t>(k)].y, -2.0 * k);
-    }
-  }
-  const rp::SegmentPoints copy = points;  // a separate heap block
-  points.push_back(points.front());       // an element of itself, while growing
-  EXPECT_EQ(points.size(), 12u);
-  EXPECT_EQ(points.back().x, 0.0);
-  ASSERT_EQ(copy.size(), 11u);
-  EXPECT_EQ(copy.back().x, 10.0);
-  EXPECT_NE(copy.data(), points.data());
-
-  rp::SegmentPoints moved = std::move(points);
-  EXPECT_EQ(moved.size(), 12u);
-  EXPECT_EQ(moved[10].y, -20.0);
-  rp::SegmentPoints two;
-  two.push_back({5.0, 6.0});
-  two.push_back({7.0, 8.0});
-  moved = two;  // heap -> inline
-  ASSERT_EQ(moved.size(), 2u);
-  EXPECT_EQ(moved.back().x, 7.0);
-  two = copy;  // inline -> heap
-  ASSERT_EQ(two.size(), 11u);
-  EXPECT_EQ(two[3].y, -6.0);
-}

@@ -25,50 +25,6 @@ using schema::PlanePoint;
 
 struct RoadNetwork;
 
-/// A segment's line, UTM metres: almost always 2 points (a straight cut), kept inline; a cut
-/// that keeps OSM vertices has its points on the heap. 40 bytes (boost's small_vector of 2
-/// takes 56): no capacity field, a heap block always holds std::bit_ceil(size()) points.
-class SegmentPoints {
- public:
-  SegmentPoints() noexcept = default;
-  SegmentPoints(const SegmentPoints& other);
-  SegmentPoints(SegmentPoints&& other) noexcept : storage_(other.storage_), size_(other.size_) {
-    other.size_ = 0;  // the heap block, if any, now belongs to this one
-  }
-  SegmentPoints& operator=(SegmentPoints other) noexcept {
-    std::swap(storage_, other.storage_);
-    std::swap(size_, other.size_);
-    return *this;
-  }
-  ~SegmentPoints() {
-    if (on_heap()) delete[] storage_.heap;
-  }
-
-  void push_back(PlanePoint point);
-
-  std::size_t size() const noexcept { return size_; }
-  bool empty() const noexcept { return size_ == 0; }
-  const PlanePoint* data() const noexcept {
-    return on_heap() ? storage_.heap : storage_.inline_points;
-  }
-  const PlanePoint* begin() const noexcept { return data(); }
-  const PlanePoint* end() const noexcept { return data() + size_; }
-  const PlanePoint& operator[](std::size_t i) const noexcept { return data()[i]; }
-  const PlanePoint& front() const noexcept { return data()[0]; }
-  const PlanePoint& back() const noexcept { return data()[size_ - 1]; }
-
- private:
-  static constexpr std::uint32_t kInlinePoints = 2;
-  bool on_heap() const noexcept { return size_ > kInlinePoints; }
-
-  union Storage {
-    Storage() noexcept : inline_points{} {}
-    PlanePoint inline_points[kInlinePoints];
-    PlanePoint* heap;  ///< when size_ > kInlinePoints: std::bit_ceil(size_) points
-  } storage_;
-  std::uint32_t size_ = 0;
-};
-
 /// A text interned in a TextPool (below), or none: 8 bytes where a std::string_view takes 16.
 /// Reads as a std::string_view (empty for none); stays valid for the pool's lifetime.
 class InternedText {
@@ -108,7 +64,8 @@ class LandformLabel {
 
 /// One short road segment and every cost term the stages fill in. Kept compact (terms as
 /// Maybe<> numbers, reasons as a bit set, texts interned in the graph, fields ordered by size so
-/// that there is no padding; 272 bytes before, 200 now): a country has tens of millions.
+/// that there is no padding, the line's points in RoadGraph::segment_points; 272 bytes before,
+/// 168 now): a country has tens of millions.
 struct Segment {
   std::int64_t id = 0;  ///< 1-based, stable for identical inputs
   std::int64_t osm_way_id = 0;
@@ -116,12 +73,14 @@ struct Segment {
   std::int64_t to_node_id = 0;
   double offset_in_piece_m = 0.0;  ///< distance from the piece's start to this segment's start
   double length_m = 0.0;
-  SegmentPoints points;  ///< UTM metres, >= 2 points
   InternedText highway;  ///< highway=* value, interned in RoadGraph::text
   InternedText name;     ///< the way's name, interned in RoadGraph::text (empty: none)
   const std::string* context_defaulted = nullptr;  ///< interned in RoadGraph::text, or none
   const std::string* override_note = nullptr;      ///< interned in RoadGraph::text, or none
   std::uint32_t piece_index = 0;  ///< index into RoadGraph::pieces (the way: its way_index)
+  /// The line: RoadGraph::segment_points[first_point, first_point + point_count), UTM metres,
+  /// >= 2 points (RoadGraph::line() gives it as a span).
+  std::uint32_t first_point = 0;
 
   // Geometry cost.
   MaybeFloat junction_distance_m;
@@ -138,6 +97,7 @@ struct Segment {
   MaybeFloat sight_forward_m, sight_backward_m, sight_min_m, required_sight_m;
   ReasonSet reasons;
 
+  std::uint16_t point_count = 0;
   // The 1-byte fields last (no padding between them and the 4-byte ones).
   MaybeSmallInt class_cost;       ///< geometry: 0..10 (the class cost parameters' range)
   MaybeSmallInt curvature_level;  ///< geometry: 0..5
@@ -151,9 +111,6 @@ struct Segment {
   bool bridge : 1 = false;
   bool override_no_crossing : 1 = false;     ///< an operator override forbids crossing here
   bool override_force_suitable : 1 = false;  ///< an operator override declares it suitable
-
-  /// The points as a span (what geometry functions take).
-  std::span<const PlanePoint> line() const noexcept { return {points.data(), points.size()}; }
 };
 
 /// Texts shared by many segments (way names, notes), stored once. Views and pointers into it
@@ -185,8 +142,16 @@ struct RoadGraph {
   /// Number of piece ends at each graph node (a way passing through counts 2, ending counts 1).
   std::unordered_map<std::int64_t, int> degree;
   std::vector<Segment> segments;
+  /// The segments' lines, one after the other in segment order; consecutive segments of a piece
+  /// share the point where one ends and the next starts.
+  std::vector<PlanePoint> segment_points;
   std::uint64_t dropped_node_refs = 0;  ///< references to nodes missing from the file
   std::uint64_t dropped_ways = 0;       ///< ways with fewer than two located nodes
+
+  /// A segment's line (UTM metres, >= 2 points; what geometry functions take).
+  std::span<const PlanePoint> line(const Segment& segment) const noexcept {
+    return {segment_points.data() + segment.first_point, segment.point_count};
+  }
 };
 
 /// One end of a road piece at a graph node.
