@@ -224,10 +224,10 @@ void compute_geometry_costs(RoadGraph& graph, const GeometryParameters& p) {
     if (s.tunnel) s.reasons.add("TUNNEL");
   }
   assign_junction_distances(graph, p);
-  for (const Stroke& stroke : build_strokes(graph)) {
+  for_each_stroke(graph, [&](const Stroke& stroke) {
     assign_radii(graph, stroke, p);
     assign_curvature_costs(graph, stroke, p);
-  }
+  });
 }
 
 }  // namespace roadcross::preprocess

@@ -457,7 +457,7 @@ void assign_terrain(RoadGraph& graph, const std::vector<TerrainSample>& samples,
     landform_cost[i] = p.landform_cost[static_cast<std::size_t>(landform)];
     if (is_crest_or_dip(landform)) s.reasons.add("CREST_OR_DIP");
   }
-  for (const Stroke& stroke : build_strokes(graph)) {
+  for_each_stroke(graph, [&](const Stroke& stroke) {
     // Bridges and tunnels: runs of consecutive structure segments along the stroke.
     for (std::size_t i = 0; i < stroke.segments.size();) {
       const auto is_structure = [&](std::size_t k) {
@@ -491,7 +491,7 @@ void assign_terrain(RoadGraph& graph, const std::vector<TerrainSample>& samples,
       const double cost = std::floor(mean[k] * 9.0 / 15.0 + 1e-9);
       s.elevation_cost = static_cast<int>(std::clamp(cost, 0.0, 9.0));
     }
-  }
+  });
   for (Segment& s : graph.segments) {
     if (!s.elevation_cost) s.reasons.add("NO_ELEVATION");
   }
