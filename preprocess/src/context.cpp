@@ -219,9 +219,10 @@ ContextReport compute_context(RoadGraph& graph, const RoadNetwork& network,
   // not counted: nothing of them reaches the DB).
   std::vector<std::optional<WayContext>> ways(network.ways.size());
   for (const Segment& s : graph.segments) {
-    std::optional<WayContext>& w = ways[s.way_index];
+    const std::size_t way_index = graph.pieces[s.piece_index].way_index;
+    std::optional<WayContext>& w = ways[way_index];
     if (w) continue;
-    const RoadWay& way = network.ways[s.way_index];
+    const RoadWay& way = network.ways[way_index];
     w = way_context(way.tags, way.highway, s.oneway, defaults);
     for (const std::string& tag : w->defaulted) ++report.defaulted_ways[tag];
     for (const std::string& tag : w->unparsed) ++report.unparsed_ways[tag];
@@ -231,7 +232,7 @@ ContextReport compute_context(RoadGraph& graph, const RoadNetwork& network,
   report.crossings = find_crossings(network, graph);
   assign_crossing_distances(graph, report.crossings);
   for (Segment& s : graph.segments) {
-    const WayContext& w = *ways[s.way_index];
+    const WayContext& w = *ways[graph.pieces[s.piece_index].way_index];
     s.maxspeed_kmh = w.maxspeed_kmh;
     s.lanes = w.lanes;
     s.width_m = w.width_m;

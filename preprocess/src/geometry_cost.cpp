@@ -219,15 +219,15 @@ void assign_curvature_costs(RoadGraph& graph, const Stroke& stroke, const Geomet
 void compute_geometry_costs(RoadGraph& graph, const GeometryParameters& p) {
   for (Segment& s : graph.segments) {
     s.class_cost = class_cost(s.highway, p);
-    const std::string_view base = std::string_view(s.highway).substr(0, s.highway.find("_link"));
+    const std::string_view base = s.highway.view().substr(0, s.highway.view().find("_link"));
     if (base == "motorway" || base == "trunk") s.reasons.add("NOT_CROSSABLE_CLASS");
     if (s.tunnel) s.reasons.add("TUNNEL");
   }
   assign_junction_distances(graph, p);
-  for (const Stroke& stroke : build_strokes(graph)) {
+  for_each_stroke(graph, [&](const Stroke& stroke) {
     assign_radii(graph, stroke, p);
     assign_curvature_costs(graph, stroke, p);
-  }
+  });
 }
 
 }  // namespace roadcross::preprocess

@@ -91,10 +91,11 @@ void bind_text(sqlite::Statement& insert, int index, const char* text) {
   }
 }
 
-void bind_segment(sqlite::Statement& insert, const Segment& s, std::int32_t srs_id) {
+void bind_segment(sqlite::Statement& insert, const RoadGraph& graph, const Segment& s,
+                  std::int32_t srs_id) {
   int i = 1;
   insert.bind(i++, s.id);
-  insert.bind(i++, std::span<const std::uint8_t>(schema::encode_linestring(s.line(), srs_id)));
+  insert.bind(i++, std::span<const std::uint8_t>(schema::encode_linestring(graph.line(s), srs_id)));
   insert.bind(i++, s.osm_way_id);
   insert.bind(i++, s.highway);
   if (s.name.empty()) {
@@ -118,7 +119,7 @@ void bind_segment(sqlite::Statement& insert, const Segment& s, std::int32_t srs_
   bind_maybe(insert, i++, s.grade_percent);
   bind_maybe(insert, i++, s.tpi_small_m);
   bind_maybe(insert, i++, s.tpi_large_m);
-  bind_text(insert, i++, s.landform);
+  bind_text(insert, i++, s.landform.text());
   bind_maybe(insert, i++, s.elevation_cost);
   bind_maybe(insert, i++, s.maxspeed_kmh);
   bind_maybe(insert, i++, s.lanes);
@@ -163,9 +164,9 @@ schema::Envelope write_segment_rows(sqlite::Database& db, const RoadGraph& graph
       std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
   std::size_t written = 0;
   for (const Segment& s : graph.segments) {
-    bind_segment(insert, s, srs_id);
+    bind_segment(insert, graph, s, srs_id);
     insert.run();
-    const schema::Envelope e = schema::envelope_of(s.line());
+    const schema::Envelope e = schema::envelope_of(graph.line(s));
     extent.min_x = std::min(extent.min_x, e.min_x);
     extent.max_x = std::max(extent.max_x, e.max_x);
     extent.min_y = std::min(extent.min_y, e.min_y);
@@ -179,7 +180,8 @@ schema::Envelope write_segment_rows(sqlite::Database& db, const RoadGraph& graph
 void write_segment_rtree(sqlite::Database& db, const RoadGraph& graph) {
   std::vector<RtreeEntry> entries;
   entries.reserve(graph.segments.size());
-  for (const Segment& s : graph.segments) entries.push_back({s.id, schema::envelope_of(s.line())});
+  for (const Segment& s : graph.segments)
+    entries.push_back({s.id, schema::envelope_of(graph.line(s))});
   bulk_load_rtree(db.handle(), std::string(schema::kSegmentsRtree), entries);
 }
 

@@ -108,6 +108,11 @@ void ObstacleReader::ways_done() {
   nodes_.assign(node_ids_.size(), PlanePoint{NAN, NAN});
 }
 
+void ObstacleReader::nodes_done() {
+  // The ids only served the lookup in node(): the segment table and the edges come next.
+  std::vector<std::int64_t>().swap(node_ids_);
+}
+
 void ObstacleReader::node(const osmium::Node& node) {
   const auto it = std::lower_bound(node_ids_.begin(), node_ids_.end(), node.id());
   if (it == node_ids_.end() || *it != node.id()) return;

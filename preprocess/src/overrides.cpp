@@ -250,12 +250,12 @@ std::vector<std::uint64_t> apply_overrides(RoadGraph& graph,
                               o.osm_way_ids.end();
       if (!way_ok) continue;
       bool area_ok = polygons.empty();
-      const schema::Envelope e = schema::envelope_of(s.line());
+      const schema::Envelope e = schema::envelope_of(graph.line(s));
       for (std::size_t k = 0; k < polygons.size() && !area_ok; ++k) {
         const schema::Envelope& b = boxes[k];
         if (e.max_x < b.min_x || e.min_x > b.max_x || e.max_y < b.min_y || e.min_y > b.max_y)
           continue;
-        area_ok = polyline_touches_polygon(s.line(), polygons[k]);
+        area_ok = polyline_touches_polygon(graph.line(s), polygons[k]);
       }
       if (!area_ok) continue;
       apply_one(s, o, graph.text);

@@ -219,6 +219,7 @@ RoadNetwork read_road_network(const std::string& path, Progress& progress, Extra
     progress.start_stage("reading node locations", "MB");
     NodeLocationCollector nodes(network, wanted, crossing_only);
     read_pass(path, osmium::osm_entity_bits::node, nodes, extra, progress);
+    if (extra) extra->nodes_done();
     sort_by_id_unique(network.locations);
     sort_by_id_unique(network.crossing_way_locations);
     sort_by_id_unique(network.tagged_nodes);

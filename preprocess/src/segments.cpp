@@ -4,10 +4,14 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 
 #include "roadcross/preprocess/road_network.hpp"
 
 namespace roadcross::preprocess {
+
+// A regression guard: the segment table is most of the build's peak memory.
+static_assert(sizeof(Segment) <= 168, "Segment grew: every byte costs ~10 MB a country");
 
 double polyline_length_m(std::span<const PlanePoint> points) noexcept {
   double length = 0.0;
@@ -27,6 +31,12 @@ geo::UtmZone choose_utm_zone(const RoadNetwork& network) {
     max_lon = std::max(max_lon, n.lon_deg);
   }
   return geo::standard_utm_zone(0.5 * (min_lat + max_lat), 0.5 * (min_lon + max_lon));
+}
+
+std::size_t segment_count_of(double piece_length_m, double max_segment_length_m) noexcept {
+  // Equal parts: ceil with a tolerance so that a 20.000000001 m piece with a 10 m limit is 2.
+  return static_cast<std::size_t>(
+      std::max(1.0, std::ceil(piece_length_m / max_segment_length_m - 1e-9)));
 }
 
 namespace {
@@ -118,22 +128,21 @@ void cut_piece(RoadGraph& graph, std::size_t piece_index, const RoadWay& way, do
     cumulative[i] =
         cumulative[i - 1] + std::hypot(pts[i].x - pts[i - 1].x, pts[i].y - pts[i - 1].y);
   }
+  // The same sum as polyline_length_m (pass 2 counted the segments with it).
   piece.length_m = cumulative.back();
-  // Equal parts: ceil with a tolerance so that a 20.000000001 m piece with a 10 m limit is 2.
-  const auto count =
-      static_cast<std::size_t>(std::max(1.0, std::ceil(piece.length_m / max_length_m - 1e-9)));
+  const std::size_t count = segment_count_of(piece.length_m, max_length_m);
   const double part_m = piece.length_m / static_cast<double>(count);
   piece.first_segment = graph.segments.size();
   piece.segment_count = count;
 
-  const std::string_view highway = *graph.text.intern(way.highway);
+  const InternedText highway = graph.text.intern_text(way.highway);
   const std::string_view name_tag = tag_value(way.tags, "name");
-  const std::string_view name =
-      name_tag.empty() ? std::string_view() : *graph.text.intern(name_tag);
+  const InternedText name = name_tag.empty() ? InternedText() : graph.text.intern_text(name_tag);
   const bool oneway = way_is_oneway(way.tags);
   const bool tunnel = way_is_tunnel(way.tags);
   const bool bridge = is_yes(tag_value(way.tags, "bridge"));
   std::size_t edge = 0;
+  std::vector<PlanePoint>& line = graph.segment_points;
   std::int64_t from_node = piece.from_node_id;
   PlanePoint from_point = pts.front();
   for (std::size_t k = 0; k < count; ++k) {
@@ -141,8 +150,7 @@ void cut_piece(RoadGraph& graph, std::size_t piece_index, const RoadWay& way, do
     const double end_m = (k + 1 == count) ? piece.length_m : part_m * static_cast<double>(k + 1);
     Segment segment;
     segment.id = static_cast<std::int64_t>(graph.segments.size()) + 1;
-    // 32-bit indices (checked in build_road_graph): 4 G ways or pieces is beyond any planet file.
-    segment.way_index = static_cast<std::uint32_t>(piece.way_index);
+    // A 32-bit index (checked in build_road_graph).
     segment.piece_index = static_cast<std::uint32_t>(piece_index);
     segment.offset_in_piece_m = start_m;
     segment.osm_way_id = way.osm_id;
@@ -152,16 +160,27 @@ void cut_piece(RoadGraph& graph, std::size_t piece_index, const RoadWay& way, do
     segment.tunnel = tunnel;
     segment.bridge = bridge;
     segment.from_node_id = from_node;
-    segment.points.push_back(from_point);
+    // The line starts at the previous segment's last point (already in the pool), if any.
+    if (k == 0) line.push_back(from_point);
+    const std::size_t first_point = line.size() - 1;
     // Interior OSM vertices strictly inside (start, end) keep the road's shape.
     std::size_t vertex = edge + 1;
     while (vertex + 1 < pts.size() && cumulative[vertex] <= start_m) ++vertex;
     for (; vertex + 1 < pts.size() && cumulative[vertex] < end_m; ++vertex) {
-      segment.points.push_back(pts[vertex]);
+      line.push_back(pts[vertex]);
     }
     const bool last = (k + 1 == count);
     const PlanePoint to_point = last ? pts.back() : point_at(pts, cumulative, end_m, edge);
-    segment.points.push_back(to_point);
+    line.push_back(to_point);
+    const std::size_t point_count = line.size() - first_point;
+    if (line.size() > std::numeric_limits<std::uint32_t>::max() ||
+        point_count > std::numeric_limits<std::uint16_t>::max()) {
+      throw std::length_error("OSM way " + std::to_string(way.osm_id) +
+                              ": more than 65 535 points in one segment or 4 294 967 295 in "
+                              "all: segment line indices are 16/32-bit");
+    }
+    segment.first_point = static_cast<std::uint32_t>(first_point);
+    segment.point_count = static_cast<std::uint16_t>(point_count);
     segment.to_node_id = last ? piece.to_node_id : next_split_id--;
     segment.length_m = end_m - start_m;
     from_node = segment.to_node_id;
@@ -180,44 +199,77 @@ RoadGraph build_road_graph(const RoadNetwork& network, geo::UtmZone zone,
     throw std::length_error("more than 4 294 967 295 road ways: segment indices are 32-bit");
   }
   const ProjectedNodes projected(network.locations, zone);
+  // The located runs are recomputed in each of the three passes below rather than kept: a copy
+  // of every node id and point of every way would sit beside the segment table at the peak.
 
-  // Every located run of every way, then how often each node is used across all runs.
-  std::vector<std::pair<std::size_t, NodeRun>> runs;
-  for (std::size_t w = 0; w < network.ways.size(); ++w) {
-    auto way_runs = located_runs(network.ways[w], projected, graph.dropped_node_refs);
-    if (way_runs.empty()) ++graph.dropped_ways;
-    for (NodeRun& run : way_runs) runs.emplace_back(w, std::move(run));
-  }
-  std::unordered_map<std::int64_t, int> use_count;
-  for (const auto& [w, run] : runs) {
-    for (std::size_t i = 0; i < run.ids.size(); ++i) {
+  // Pass 1: the graph's inner nodes, those used more than once across all runs (sorted ids).
+  std::vector<std::int64_t> junctions;
+  for (const RoadWay& way : network.ways) {
+    const std::vector<NodeRun> runs = located_runs(way, projected, graph.dropped_node_refs);
+    if (runs.empty()) ++graph.dropped_ways;
+    for (const NodeRun& run : runs) {
       // A closed way's last node is its first: count it once so a ring alone is not a junction.
-      if (i + 1 == run.ids.size() && run.ids.back() == run.ids.front()) break;
-      ++use_count[run.ids[i]];
+      const bool ring = run.ids.back() == run.ids.front();
+      junctions.insert(junctions.end(), run.ids.begin(), run.ids.end() - (ring ? 1 : 0));
     }
   }
+  std::sort(junctions.begin(), junctions.end());
+  auto kept = junctions.begin();
+  for (auto it = junctions.begin(); it != junctions.end();) {
+    const auto next = std::find_if(it, junctions.end(), [&](std::int64_t id) { return id != *it; });
+    if (next - it >= 2) *kept++ = *it;
+    it = next;
+  }
+  junctions.erase(kept, junctions.end());
+  junctions.shrink_to_fit();
+  const auto is_split_node = [&](std::int64_t id) {
+    return std::binary_search(junctions.begin(), junctions.end(), id);
+  };
 
-  std::int64_t next_split_id = -1;
-  for (const auto& [w, run] : runs) {
-    std::size_t start = 0;
-    for (std::size_t i = 1; i < run.ids.size(); ++i) {
-      const bool end_of_run = (i + 1 == run.ids.size());
-      if (!end_of_run && use_count[run.ids[i]] < 2) continue;
-      RoadPiece piece;
-      piece.way_index = w;
-      piece.from_node_id = run.ids[start];
-      piece.to_node_id = run.ids[i];
-      piece.points.assign(run.points.begin() + static_cast<std::ptrdiff_t>(start),
-                          run.points.begin() + static_cast<std::ptrdiff_t>(i) + 1);
-      piece.node_ids.assign(run.ids.begin() + static_cast<std::ptrdiff_t>(start),
-                            run.ids.begin() + static_cast<std::ptrdiff_t>(i) + 1);
-      ++graph.degree[piece.from_node_id];
-      ++graph.degree[piece.to_node_id];
-      graph.pieces.push_back(std::move(piece));
-      cut_piece(graph, graph.pieces.size() - 1, network.ways[w], max_segment_length_m,
-                next_split_id);
-      start = i;
+  // Pass 2: the pieces (runs split at inner nodes), their lengths and segment counts, so that
+  // the segment table is allocated once at its exact size (growing it by doubling would hold
+  // the old and the new table at once: 1.5 times the table at the peak).
+  std::uint64_t ignored_refs = 0;
+  std::size_t segment_total = 0, point_total = 0;
+  for (std::size_t w = 0; w < network.ways.size(); ++w) {
+    for (const NodeRun& run : located_runs(network.ways[w], projected, ignored_refs)) {
+      std::size_t start = 0;
+      for (std::size_t i = 1; i < run.ids.size(); ++i) {
+        const bool end_of_run = (i + 1 == run.ids.size());
+        if (!end_of_run && !is_split_node(run.ids[i])) continue;
+        RoadPiece piece;
+        piece.way_index = w;
+        piece.from_node_id = run.ids[start];
+        piece.to_node_id = run.ids[i];
+        piece.points.assign(run.points.begin() + static_cast<std::ptrdiff_t>(start),
+                            run.points.begin() + static_cast<std::ptrdiff_t>(i) + 1);
+        piece.node_ids.assign(run.ids.begin() + static_cast<std::ptrdiff_t>(start),
+                              run.ids.begin() + static_cast<std::ptrdiff_t>(i) + 1);
+        piece.length_m = polyline_length_m(piece.points);
+        piece.segment_count = segment_count_of(piece.length_m, max_segment_length_m);
+        segment_total += piece.segment_count;
+        // At most: the start, each segment's end and every inner vertex once.
+        point_total += piece.segment_count + piece.points.size() - 1;
+        graph.pieces.push_back(std::move(piece));
+        start = i;
+      }
     }
+  }
+  graph.pieces.shrink_to_fit();
+  if (graph.pieces.size() > std::numeric_limits<std::uint32_t>::max()) {
+    throw std::length_error("more than 4 294 967 295 road pieces: Segment::piece_index is 32-bit");
+  }
+  std::vector<std::int64_t>().swap(junctions);
+
+  // Pass 3: the segments, in piece order.
+  graph.segments.reserve(segment_total);
+  graph.segment_points.reserve(point_total);
+  std::int64_t next_split_id = -1;
+  for (std::size_t p = 0; p < graph.pieces.size(); ++p) {
+    const RoadPiece& piece = graph.pieces[p];
+    ++graph.degree[piece.from_node_id];
+    ++graph.degree[piece.to_node_id];
+    cut_piece(graph, p, network.ways[piece.way_index], max_segment_length_m, next_split_id);
   }
   return graph;
 }

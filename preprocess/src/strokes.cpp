@@ -75,9 +75,14 @@ Stroke make_stroke(const RoadGraph& graph, const std::deque<Step>& steps, bool c
 }  // namespace
 
 std::vector<Stroke> build_strokes(const RoadGraph& graph) {
+  std::vector<Stroke> strokes;
+  for_each_stroke(graph, [&](const Stroke& stroke) { strokes.push_back(stroke); });
+  return strokes;
+}
+
+void for_each_stroke(const RoadGraph& graph, const std::function<void(const Stroke&)>& visit) {
   const Incidences incidences = incidences_of(graph);
   std::vector<char> visited(graph.pieces.size(), 0);
-  std::vector<Stroke> strokes;
   for (std::size_t p = 0; p < graph.pieces.size(); ++p) {
     if (visited[p]) continue;
     visited[p] = 1;
@@ -100,9 +105,8 @@ std::vector<Stroke> build_strokes(const RoadGraph& graph) {
       const auto it = incidences.find(piece.from_node_id);
       closed = it != incidences.end() && it->second.size() == 2;
     }
-    strokes.push_back(make_stroke(graph, steps, closed));
+    visit(make_stroke(graph, steps, closed));
   }
-  return strokes;
 }
 
 namespace {

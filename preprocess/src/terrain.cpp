@@ -25,6 +25,23 @@ constexpr std::array<std::string_view, kLandformCount> kLandformNames = {
     "open_slope", "upper_slope",       "local_ridge",     "midslope_ridge",  "mountain_top"};
 }  // namespace
 
+LandformLabel::LandformLabel(Landform landform) noexcept
+    : code_(static_cast<std::uint8_t>(1 + static_cast<std::uint8_t>(landform))) {}
+
+LandformLabel LandformLabel::structure(bool tunnel) noexcept {
+  LandformLabel label;
+  label.code_ = tunnel ? kTunnel : kBridge;
+  return label;
+}
+
+const char* LandformLabel::text() const noexcept {
+  static_assert(kTunnel == 1 + kLandformCount);
+  if (code_ == kNone) return nullptr;
+  if (code_ == kTunnel) return "tunnel";
+  if (code_ == kBridge) return "bridge";
+  return kLandformNames[code_ - 1u].data();  // the names are literals: NUL-terminated
+}
+
 std::string_view landform_name(Landform landform) noexcept {
   return kLandformNames[static_cast<std::size_t>(landform)];
 }
@@ -386,25 +403,26 @@ void assign_structure_run(RoadGraph& graph, const Stroke& stroke, std::size_t fi
     s.elevation_m = z0 + t * (z1 - z0);
     s.grade_percent = 100.0 * (ss.reversed ? -grade_along_stroke : grade_along_stroke);
     s.slope_deg = std::atan(std::abs(grade_along_stroke)) * kRadToDeg;
-    s.landform = s.tunnel ? "tunnel" : "bridge";
+    s.landform = LandformLabel::structure(s.tunnel);
   }
 }
 
 }  // namespace
 
-PlanePoint segment_midpoint(const Segment& s) {
-  return point_along(s.line(), 0.5 * s.length_m);
+PlanePoint segment_midpoint(const RoadGraph& graph, const Segment& s) {
+  return point_along(graph.line(s), 0.5 * s.length_m);
 }
 
 void sample_terrain(const RoadGraph& graph, const TerrainModel& m,
                     const std::vector<std::size_t>& segments, std::vector<TerrainSample>& samples) {
   for (const std::size_t i : segments) {
     const Segment& s = graph.segments[i];
-    const PlanePoint mid = segment_midpoint(s);
+    const PlanePoint mid = segment_midpoint(graph, s);
     TerrainSample& t = samples[i];
     t.z_mid_m = static_cast<float>(m.elevation.sample(mid.x, mid.y));
-    t.z_start_m = static_cast<float>(m.elevation.sample(s.points.front().x, s.points.front().y));
-    t.z_end_m = static_cast<float>(m.elevation.sample(s.points.back().x, s.points.back().y));
+    const std::span<const PlanePoint> line = graph.line(s);
+    t.z_start_m = static_cast<float>(m.elevation.sample(line.front().x, line.front().y));
+    t.z_end_m = static_cast<float>(m.elevation.sample(line.back().x, line.back().y));
     t.slope_deg = static_cast<float>(m.slope.sample(mid.x, mid.y));
     t.tpi_small_m = static_cast<float>(m.tpi_small.sample(mid.x, mid.y));
     t.tpi_large_m = static_cast<float>(m.tpi_large.sample(mid.x, mid.y));
@@ -435,11 +453,11 @@ void assign_terrain(RoadGraph& graph, const std::vector<TerrainSample>& samples,
     const Landform landform = classify_landform((*s.tpi_small_m - z.small.mean) / z.small_sd_used,
                                                 (*s.tpi_large_m - z.large.mean) / z.large_sd_used,
                                                 s.slope_deg.value_or(0.0), p);
-    s.landform = landform_name(landform).data();  // names are literals: NUL-terminated
+    s.landform = LandformLabel(landform);
     landform_cost[i] = p.landform_cost[static_cast<std::size_t>(landform)];
     if (is_crest_or_dip(landform)) s.reasons.add("CREST_OR_DIP");
   }
-  for (const Stroke& stroke : build_strokes(graph)) {
+  for_each_stroke(graph, [&](const Stroke& stroke) {
     // Bridges and tunnels: runs of consecutive structure segments along the stroke.
     for (std::size_t i = 0; i < stroke.segments.size();) {
       const auto is_structure = [&](std::size_t k) {
@@ -473,7 +491,7 @@ void assign_terrain(RoadGraph& graph, const std::vector<TerrainSample>& samples,
       const double cost = std::floor(mean[k] * 9.0 / 15.0 + 1e-9);
       s.elevation_cost = static_cast<int>(std::clamp(cost, 0.0, 9.0));
     }
-  }
+  });
   for (Segment& s : graph.segments) {
     if (!s.elevation_cost) s.reasons.add("NO_ELEVATION");
   }
@@ -500,7 +518,7 @@ struct Bounds {
 Bounds road_bounds(const RoadGraph& graph) {
   Bounds b;
   for (const Segment& s : graph.segments) {
-    for (const PlanePoint& q : s.points) {
+    for (const PlanePoint& q : graph.line(s)) {
       b.min_e = std::min(b.min_e, q.x), b.max_e = std::max(b.max_e, q.x);
       b.min_n = std::min(b.min_n, q.y), b.max_n = std::max(b.max_n, q.y);
     }
@@ -614,7 +632,7 @@ struct TileTpi {
       }
     }
     for (const std::size_t i : segments) {
-      const PlanePoint mid = segment_midpoint(graph.segments[i]);
+      const PlanePoint mid = segment_midpoint(graph, graph.segments[i]);
       samples[i].*field = static_cast<float>(bilinear(
           g, mid.x, mid.y, [&](std::size_t c, std::size_t r) { return annulus.at(c, r); }));
     }
@@ -652,7 +670,7 @@ TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
       1, static_cast<std::size_t>(std::ceil((roads.max_n - roads.min_n) / p.tile_size_m)));
   std::vector<std::vector<std::size_t>> segments_of_tile(layout.cols * layout.rows);
   for (std::size_t i = 0; i < graph.segments.size(); ++i) {
-    segments_of_tile[layout.tile_of(segment_midpoint(graph.segments[i]))].push_back(i);
+    segments_of_tile[layout.tile_of(segment_midpoint(graph, graph.segments[i]))].push_back(i);
   }
 
   const std::size_t factor = std::max<std::size_t>(
@@ -788,11 +806,12 @@ TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
     // Elevations and slope (Horn's, at the four cells around the midpoint).
     for (const std::size_t i : tile_segments) {
       const Segment& s = graph.segments[i];
-      const PlanePoint mid = segment_midpoint(s);
+      const PlanePoint mid = segment_midpoint(graph, s);
       TerrainSample& t = samples[i];
       t.z_mid_m = static_cast<float>(elevation.sample(mid.x, mid.y));
-      t.z_start_m = static_cast<float>(elevation.sample(s.points.front().x, s.points.front().y));
-      t.z_end_m = static_cast<float>(elevation.sample(s.points.back().x, s.points.back().y));
+      const std::span<const PlanePoint> line = graph.line(s);
+      t.z_start_m = static_cast<float>(elevation.sample(line.front().x, line.front().y));
+      t.z_end_m = static_cast<float>(elevation.sample(line.back().x, line.back().y));
       t.slope_deg = static_cast<float>(bilinear(g, mid.x, mid.y, [&](std::size_t c, std::size_t r) {
         return slope_at(elevation, c, r);
       }));

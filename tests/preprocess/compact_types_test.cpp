@@ -55,3 +55,19 @@ TEST(Maybe, BehavesLikeOptional) {
   EXPECT_FALSE(none);
   EXPECT_EQ(none.value_or(-1), -1);
 }
+
+TEST(Maybe, SmallIntWidensToIntKeepingAbsence) {
+  rp::MaybeSmallInt rank;
+  EXPECT_FALSE(rank);
+  EXPECT_FALSE(rp::MaybeInt(rank));  // absent stays absent, not -128
+  rank = 14;
+  EXPECT_EQ(sizeof(rank), 1u);
+  const rp::MaybeInt wide = rank;
+  ASSERT_TRUE(wide);
+  EXPECT_EQ(*wide, 14);
+  rank = 0;  // zero is a value
+  EXPECT_EQ(rp::MaybeInt(rank).optional(), std::optional<int>(0));
+  rank = -127;  // the smallest value (-128 is the absence sentinel)
+  EXPECT_EQ(*rp::MaybeInt(rank), -127);
+  EXPECT_EQ(rank.value_or(3) + 1, -126);  // arithmetic in int, not a wrapped char
+}

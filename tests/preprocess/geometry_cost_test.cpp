@@ -57,15 +57,18 @@ struct GraphBuilder {
       seg.piece_index = static_cast<std::uint32_t>(graph.pieces.size());
       seg.offset_in_piece_m = a;
       seg.length_m = b - a;
-      seg.highway = *graph.text.intern(highway);
+      seg.highway = graph.text.intern_text(highway);
       seg.from_node_id = node;
       seg.to_node_id = (k + 1 == count) ? to : next_split--;
       node = seg.to_node_id;
-      seg.points.push_back(at(a));
+      std::vector<PlanePoint>& line = graph.segment_points;
+      seg.first_point = static_cast<std::uint32_t>(line.size());
+      line.push_back(at(a));
       for (std::size_t i = 1; i + 1 < points.size(); ++i) {
-        if (s[i] > a && s[i] < b) seg.points.push_back(points[i]);
+        if (s[i] > a && s[i] < b) line.push_back(points[i]);
       }
-      seg.points.push_back(k + 1 == count ? points.back() : at(b));
+      line.push_back(k + 1 == count ? points.back() : at(b));
+      seg.point_count = static_cast<std::uint16_t>(line.size() - seg.first_point);
       graph.segments.push_back(seg);
     }
     ++graph.degree[from];

@@ -49,7 +49,7 @@ TEST(Segmentation, StraightWayIsCutIntoEqualSegments) {
   ASSERT_EQ(b.graph.segments.size(), 10u);
   for (const rp::Segment& s : b.graph.segments) {
     EXPECT_NEAR(s.length_m, kStraightLength_m / 10, 1e-4);
-    EXPECT_NEAR(rp::polyline_length_m(s.line()), s.length_m, 1e-6);
+    EXPECT_NEAR(rp::polyline_length_m(b.graph.line(s)), s.length_m, 1e-6);
     EXPECT_EQ(s.osm_way_id, 10);
     EXPECT_EQ(s.highway, "residential");
     EXPECT_EQ(s.name, "Straight");
@@ -60,7 +60,8 @@ TEST(Segmentation, StraightWayIsCutIntoEqualSegments) {
   for (std::size_t i = 1; i < b.graph.segments.size(); ++i) {
     EXPECT_EQ(b.graph.segments[i].from_node_id, b.graph.segments[i - 1].to_node_id);
     EXPECT_LT(b.graph.segments[i].from_node_id, 0);  // a split point, not an OSM node
-    EXPECT_EQ(b.graph.segments[i].points.front().x, b.graph.segments[i - 1].points.back().x);
+    EXPECT_EQ(b.graph.line(b.graph.segments[i]).front().x,
+              b.graph.line(b.graph.segments[i - 1]).back().x);
   }
   EXPECT_EQ(degree(b.graph, 1), 1);
   EXPECT_EQ(degree(b.graph, 2), 1);
@@ -74,6 +75,51 @@ TEST(Segmentation, MaxSegmentLengthIsRespected) {
   EXPECT_EQ(build(body, 100.0).graph.segments.size(), 1u);
 }
 
+TEST(Segmentation, SegmentCountIsTheFewestPartsWithinTheLimit) {
+  EXPECT_EQ(rp::segment_count_of(0.0, 10.0), 1u);  // a zero-length piece is still one segment
+  EXPECT_EQ(rp::segment_count_of(9.9, 10.0), 1u);
+  EXPECT_EQ(rp::segment_count_of(10.0, 10.0), 1u);
+  EXPECT_EQ(rp::segment_count_of(10.1, 10.0), 2u);
+  EXPECT_EQ(rp::segment_count_of(20.000000001, 10.0), 2u);  // rounding, not a third part
+  EXPECT_EQ(rp::segment_count_of(20.001, 10.0), 3u);
+  EXPECT_EQ(rp::segment_count_of(kStraightLength_m, 10.0), 10u);
+}
+
+TEST(Segmentation, SegmentTableIsAllocatedAtItsExactSize) {
+  // Counted before cutting: capacity == size (a miscount would grow or over-allocate it), and
+  // each piece's count is what segment_count_of gives for its length.
+  const Built b =
+      build(rt::osm_node(1, 50.0, 14.399) + rt::osm_node(2, 50.0, 14.4) +
+            rt::osm_node(3, 50.0, 14.401) + rt::osm_node(4, 50.001, 14.4) +
+            rt::osm_node(5, 50.0015, 14.4007) + rt::osm_way(10, "1 2 3", "highway=residential") +
+            rt::osm_way(20, "2 4 5", "highway=service"));
+  ASSERT_EQ(b.graph.pieces.size(), 3u);
+  EXPECT_EQ(b.graph.segments.capacity(), b.graph.segments.size());
+  EXPECT_EQ(b.graph.pieces.capacity(), b.graph.pieces.size());
+  std::size_t expected_first = 0;
+  for (const rp::RoadPiece& piece : b.graph.pieces) {
+    EXPECT_EQ(piece.segment_count, rp::segment_count_of(piece.length_m, 10.0));
+    EXPECT_EQ(piece.first_segment, expected_first);
+    expected_first += piece.segment_count;
+  }
+  EXPECT_EQ(expected_first, b.graph.segments.size());
+  // The lines: one after the other, each segment starting where the one before it in its
+  // piece ends (the shared point stored once), a piece's first segment on a point of its own.
+  std::size_t expected_point = 0;
+  for (const rp::RoadPiece& piece : b.graph.pieces) {
+    for (std::size_t k = 0; k < piece.segment_count; ++k) {
+      const rp::Segment& s = b.graph.segments[piece.first_segment + k];
+      EXPECT_EQ(s.first_point, expected_point);
+      ASSERT_GE(s.point_count, 2u);
+      expected_point += s.point_count - 1u;
+    }
+    ++expected_point;
+  }
+  EXPECT_EQ(expected_point, b.graph.segment_points.size());
+  EXPECT_EQ(b.graph.line(b.graph.segments.front()).front().x, b.graph.pieces[0].points.front().x);
+  EXPECT_EQ(b.graph.line(b.graph.segments.back()).back().y, b.graph.pieces[2].points.back().y);
+}
+
 TEST(Segmentation, InteriorVerticesAreKept) {
   // A way with a kink at node 2 (1 -> 2 east, 2 -> 3 north, ~0.0005 deg each): one piece,
   // and the segment containing node 2 keeps it as a vertex, so no corner is cut.
@@ -85,8 +131,8 @@ TEST(Segmentation, InteriorVerticesAreKept) {
   bool kink_kept = false;
   for (const rp::Segment& s : b.graph.segments) {
     total += s.length_m;
-    EXPECT_NEAR(rp::polyline_length_m(s.line()), s.length_m, 1e-6);
-    if (s.points.size() == 3) kink_kept = true;
+    EXPECT_NEAR(rp::polyline_length_m(b.graph.line(s)), s.length_m, 1e-6);
+    if (s.point_count == 3) kink_kept = true;
   }
   EXPECT_NEAR(total, b.graph.pieces[0].length_m, 1e-6);
   EXPECT_TRUE(kink_kept);

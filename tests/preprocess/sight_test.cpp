@@ -65,8 +65,8 @@ const rp::Segment& segment_at(const rp::RoadGraph& graph, double x, double y) {
   const rp::Segment* best = &graph.segments.front();
   double best_d = 1e300;
   for (const rp::Segment& s : graph.segments) {
-    const PlanePoint& a = s.points.front();
-    const PlanePoint& b = s.points.back();
+    const PlanePoint& a = graph.line(s).front();
+    const PlanePoint& b = graph.line(s).back();
     const double d = std::hypot(0.5 * (a.x + b.x) - kE0 - x, 0.5 * (a.y + b.y) - kN0 - y);
     if (d < best_d) best_d = d, best = &s;
   }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <type_traits>
@@ -26,6 +27,12 @@ struct MaybeTraits<float> {
 };
 
 template <>
+struct MaybeTraits<std::int8_t> {
+  static constexpr std::int8_t absent() noexcept { return std::numeric_limits<std::int8_t>::min(); }
+  static bool is_absent(std::int8_t v) noexcept { return v == absent(); }
+};
+
+template <>
 struct MaybeTraits<int> {
   static constexpr int absent() noexcept { return std::numeric_limits<int>::min(); }
   static bool is_absent(int v) noexcept { return v == absent(); }
@@ -43,6 +50,11 @@ class Maybe {
   template <typename U>
   requires std::is_arithmetic_v<U>
   constexpr Maybe(U value) noexcept : value_(static_cast<T>(value)) {}
+  /// Widening from a smaller Maybe of the same kind (a MaybeSmallInt reads as a MaybeInt).
+  template <typename U>
+  requires(std::is_integral_v<U> == std::is_integral_v<T> &&
+           sizeof(U) < sizeof(T)) constexpr Maybe(Maybe<U> value) noexcept
+      : value_(value ? static_cast<T>(*value) : MaybeTraits<T>::absent()) {}
   template <typename U>
   constexpr Maybe(const std::optional<U>& value) noexcept
       : value_(value ? static_cast<T>(*value) : MaybeTraits<T>::absent()) {}
@@ -64,5 +76,8 @@ using MaybeDouble = Maybe<double>;
 /// Metres, degrees, km/h at float precision (7 digits: below a millimetre for a 10 km value).
 using MaybeFloat = Maybe<float>;
 using MaybeInt = Maybe<int>;
+/// A cost, level or rank that the code clamps to a small range (-127..127): 1 byte. A larger
+/// value would wrap, so only fields whose computation bounds them use it.
+using MaybeSmallInt = Maybe<std::int8_t>;
 
 }  // namespace roadcross::preprocess

@@ -90,6 +90,8 @@ class ExtraOsmReader {
   virtual void ways_done() {}
   /// Second pass: every node of the file.
   virtual void node(const osmium::Node& node) = 0;
+  /// After the second pass: e.g. free what only the node lookup needed.
+  virtual void nodes_done() {}
 };
 
 /// Reads an .osm, .osm.gz, .osm.bz2 or .osm.pbf file in two passes: road ways first, then only

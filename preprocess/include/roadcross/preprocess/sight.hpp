@@ -69,8 +69,8 @@ double parse_height_m(std::string_view text) noexcept;
 
 /// Reads building footprints (closed ways with building=*, except roof and no) and
 /// barrier=wall/fence ways in the road network's two passes: give it to read_road_network().
-/// Holds per obstacle way 16 bytes, per node reference 4 and per obstacle node 24 (id and
-/// location) until take_edges().
+/// Holds per obstacle way 16 bytes, per node reference 4 and per obstacle node 16 (its location;
+/// 8 more for its id during the node pass) until take_edges().
 class ObstacleReader final : public ExtraOsmReader {
  public:
   explicit ObstacleReader(const SightParameters& parameters) : p_(parameters) {}
@@ -79,6 +79,7 @@ class ObstacleReader final : public ExtraOsmReader {
   bool wants_relations() const override { return true; }
   void ways_done() override;
   void node(const osmium::Node& node) override;
+  void nodes_done() override;
 
   /// The edges that come within `reach_m` of the box [min, max] (UTM, zone `zone`); nodes more
   /// than 1 km beyond that are dropped with their edges. Frees what was read.
@@ -95,7 +96,7 @@ class ObstacleReader final : public ExtraOsmReader {
   std::vector<Way> ways_;
   std::vector<std::int64_t> refs_;        ///< node ids of ways_ (first pass only)
   std::vector<std::uint32_t> ref_nodes_;  ///< the same as positions in node_ids_
-  std::vector<std::int64_t> node_ids_;    ///< sorted, unique
+  std::vector<std::int64_t> node_ids_;    ///< sorted, unique; freed after the node pass
   std::vector<PlanePoint> nodes_;         ///< (lon, lat) of node_ids_, NaN when not in the file
 };
 

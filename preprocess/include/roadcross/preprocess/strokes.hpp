@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <vector>
 
 #include "roadcross/preprocess/segments.hpp"
@@ -28,6 +29,11 @@ struct Stroke {
 
 /// Every piece belongs to exactly one stroke.
 std::vector<Stroke> build_strokes(const RoadGraph& graph);
+
+/// The strokes of build_strokes(), in the same order, one at a time: `visit` may change the
+/// segments' cost fields (not their offsets and lengths, which the strokes are built from).
+/// Holds one stroke at a time (all of them take ~40 bytes a segment).
+void for_each_stroke(const RoadGraph& graph, const std::function<void(const Stroke&)>& visit);
 
 /// Windowed mean along a stroke, for every segment of it (in stroke order): the
 /// length-weighted mean of `values` (one per stroke segment, in stroke order) over the road

@@ -157,7 +157,7 @@ struct TerrainSample {
 };
 
 /// The midpoint of a segment along its line (where it samples the terrain).
-PlanePoint segment_midpoint(const Segment& segment);
+PlanePoint segment_midpoint(const RoadGraph& graph, const Segment& segment);
 
 /// Samples the model at the segments listed (indices into graph.segments).
 void sample_terrain(const RoadGraph& graph, const TerrainModel& model,
