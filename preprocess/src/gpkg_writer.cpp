@@ -14,6 +14,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "roadcross/preprocess/bulk_insert.hpp"
 #include "roadcross/preprocess/errors.hpp"
 #include "roadcross/preprocess/interrupt.hpp"
 #include "roadcross/preprocess/progress.hpp"
@@ -73,104 +74,165 @@ void AtomicOutput::commit() {
 
 namespace {
 
-void bind_maybe(sqlite::Statement& insert, int index, MaybeInt value) {
-  insert.bind(index, value.optional());
+void result(sqlite3_context* out, MaybeInt value) {
+  if (value) sqlite3_result_int64(out, *value);
 }
 
-void bind_maybe(sqlite::Statement& insert, int index, MaybeFloat value) {
+void result(sqlite3_context* out, MaybeFloat value) {
   // Written as the float's exact value, so that a value reads back the same from the DB.
-  insert.bind(index, value ? std::optional<double>(*value) : std::nullopt);
+  if (value) sqlite3_result_double(out, static_cast<double>(*value));
 }
 
-/// A text that may be absent (nullptr).
-void bind_text(sqlite::Statement& insert, int index, const char* text) {
-  if (text) {
-    insert.bind(index, std::string_view(text));
-  } else {
-    insert.bind_null(index);
-  }
+void result(sqlite3_context* out, bool value) {
+  sqlite3_result_int(out, value ? 1 : 0);
 }
 
-void bind_segment(sqlite::Statement& insert, const Segment& s, std::int32_t srs_id) {
-  int i = 1;
-  insert.bind(i++, s.id);
-  insert.bind(i++, std::span<const std::uint8_t>(schema::encode_linestring(s.line(), srs_id)));
-  insert.bind(i++, s.osm_way_id);
-  insert.bind(i++, s.highway);
-  if (s.name.empty()) {
-    insert.bind_null(i++);
-  } else {
-    insert.bind(i++, s.name);
-  }
-  insert.bind(i++, s.length_m);
-  insert.bind(i++, s.from_node_id);
-  insert.bind(i++, s.to_node_id);
-  insert.bind(i++, int{s.oneway});
-  insert.bind(i++, int{s.tunnel});
-  insert.bind(i++, int{s.bridge});
-  bind_maybe(insert, i++, s.class_cost);
-  bind_maybe(insert, i++, s.junction_distance_m);
-  bind_maybe(insert, i++, s.radius_m);
-  bind_maybe(insert, i++, s.curvature_level);
-  bind_maybe(insert, i++, s.curvature_cost);
-  bind_maybe(insert, i++, s.elevation_m);
-  bind_maybe(insert, i++, s.slope_deg);
-  bind_maybe(insert, i++, s.grade_percent);
-  bind_maybe(insert, i++, s.tpi_small_m);
-  bind_maybe(insert, i++, s.tpi_large_m);
-  bind_text(insert, i++, s.landform);
-  bind_maybe(insert, i++, s.elevation_cost);
-  bind_maybe(insert, i++, s.maxspeed_kmh);
-  bind_maybe(insert, i++, s.lanes);
-  bind_maybe(insert, i++, s.width_m);
-  bind_maybe(insert, i++, s.context_score);
-  bind_maybe(insert, i++, s.crossing_distance_m);
-  bind_text(insert, i++, s.context_defaulted ? s.context_defaulted->c_str() : nullptr);
-  bind_text(insert, i++, s.override_note ? s.override_note->c_str() : nullptr);
-  insert.bind(i++, int{s.override_no_crossing});
-  insert.bind(i++, int{s.override_force_suitable});
-  bind_maybe(insert, i++, s.rank);
-  bind_maybe(insert, i++, s.score);
-  insert.bind(i++, s.reasons.joined(','));
-  bind_maybe(insert, i++, s.sight_forward_m);
-  bind_maybe(insert, i++, s.sight_backward_m);
-  bind_maybe(insert, i++, s.sight_min_m);
-  bind_maybe(insert, i++, s.required_sight_m);
-  // The column list lives in schema/; a field added there but not here must fail loudly.
-  if (i - 1 != insert.parameter_count()) {
-    throw std::logic_error("segments insert binds " + std::to_string(i - 1) + " values for " +
-                           std::to_string(insert.parameter_count()) + " columns");
-  }
+/// A text that outlives the insert (interned in the graph, or a static name): not copied.
+void result_lasting_text(sqlite3_context* out, std::string_view text) {
+  sqlite3_result_text(out, text.data(), static_cast<int>(text.size()), SQLITE_STATIC);
 }
 
-std::string insert_segment_sql() {
-  std::string names = "fid, geom", params = "?, ?";
+/// A text that may be absent (nullptr: NULL).
+void result_lasting_text(sqlite3_context* out, const std::string* text) {
+  if (text) result_lasting_text(out, *text);
+}
+
+/// The segments table's rows: fid, geom, then schema::segment_columns() in order.
+class SegmentRows final : public RowSource {
+ public:
+  static constexpr int kColumns = 39;
+
+  explicit SegmentRows(const RoadGraph& graph) : graph_(graph), srs_id_(graph.zone.epsg()) {
+    // The column list lives in schema/; a column added there but not here must fail loudly.
+    if (2 + static_cast<int>(schema::segment_columns().size()) != kColumns) {
+      throw std::logic_error("the segments writer knows " + std::to_string(kColumns) +
+                             " columns, the schema has " +
+                             std::to_string(2 + schema::segment_columns().size()));
+    }
+  }
+  std::size_t row_count() const override { return graph_.segments.size(); }
+  int column_count() const override { return kColumns; }
+
+  void column(std::size_t row, int column, sqlite3_context* out) const override {
+    const Segment& s = graph_.segments[row];
+    switch (column) {
+      case 0:
+        return sqlite3_result_int64(out, s.id);
+      case 1: {
+        const std::vector<std::uint8_t> blob = schema::encode_linestring(s.line(), srs_id_);
+        return sqlite3_result_blob(out, blob.data(), static_cast<int>(blob.size()),
+                                   SQLITE_TRANSIENT);
+      }
+      case 2:
+        return sqlite3_result_int64(out, s.osm_way_id);
+      case 3:
+        return result_lasting_text(out, s.highway);
+      case 4:
+        return s.name.empty() ? void() : result_lasting_text(out, s.name);
+      case 5:
+        return sqlite3_result_double(out, s.length_m);
+      case 6:
+        return sqlite3_result_int64(out, s.from_node_id);
+      case 7:
+        return sqlite3_result_int64(out, s.to_node_id);
+      case 8:
+        return result(out, s.oneway);
+      case 9:
+        return result(out, s.tunnel);
+      case 10:
+        return result(out, s.bridge);
+      case 11:
+        return result(out, s.class_cost);
+      case 12:
+        return result(out, s.junction_distance_m);
+      case 13:
+        return result(out, s.radius_m);
+      case 14:
+        return result(out, s.curvature_level);
+      case 15:
+        return result(out, s.curvature_cost);
+      case 16:
+        return result(out, s.elevation_m);
+      case 17:
+        return result(out, s.slope_deg);
+      case 18:
+        return result(out, s.grade_percent);
+      case 19:
+        return result(out, s.tpi_small_m);
+      case 20:
+        return result(out, s.tpi_large_m);
+      case 21:
+        return s.landform ? result_lasting_text(out, s.landform) : void();
+      case 22:
+        return result(out, s.elevation_cost);
+      case 23:
+        return result(out, s.maxspeed_kmh);
+      case 24:
+        return result(out, s.lanes);
+      case 25:
+        return result(out, s.width_m);
+      case 26:
+        return result(out, s.context_score);
+      case 27:
+        return result(out, s.crossing_distance_m);
+      case 28:
+        return result_lasting_text(out, s.context_defaulted);
+      case 29:
+        return result_lasting_text(out, s.override_note);
+      case 30:
+        return result(out, s.override_no_crossing);
+      case 31:
+        return result(out, s.override_force_suitable);
+      case 32:
+        return result(out, s.rank);
+      case 33:
+        return result(out, s.score);
+      case 34: {
+        const std::string reasons = s.reasons.joined(',');
+        return sqlite3_result_text(out, reasons.data(), static_cast<int>(reasons.size()),
+                                   SQLITE_TRANSIENT);
+      }
+      case 35:
+        return result(out, s.sight_forward_m);
+      case 36:
+        return result(out, s.sight_backward_m);
+      case 37:
+        return result(out, s.sight_min_m);
+      case 38:
+        return result(out, s.required_sight_m);
+      default:
+        throw std::logic_error("segments writer: no column " + std::to_string(column));
+    }
+  }
+
+ private:
+  const RoadGraph& graph_;
+  std::int32_t srs_id_;
+};
+
+std::string segment_column_list() {
+  std::string names = "fid, geom";
   for (const schema::Column& column : schema::segment_columns()) {
     names += ", " + std::string(column.name);
-    params += ", ?";
   }
-  return "INSERT INTO " + std::string(schema::kSegmentsTable) + " (" + names + ") VALUES (" +
-         params + ")";
+  return names;
 }
 
 /// Inserts every segment row; returns the extent of all segments.
 schema::Envelope write_segment_rows(sqlite::Database& db, const RoadGraph& graph,
                                     Progress& progress) {
-  const std::int32_t srs_id = graph.zone.epsg();
-  sqlite::Statement insert = db.prepare(insert_segment_sql());
+  const std::size_t total = graph.segments.size();
+  insert_rows(db.handle(), schema::kSegmentsTable, segment_column_list(), SegmentRows(graph),
+              [&](std::size_t done) { progress.update(done, total); });
   schema::Envelope extent{
       std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
       std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
-  std::size_t written = 0;
   for (const Segment& s : graph.segments) {
-    bind_segment(insert, s, srs_id);
-    insert.run();
     const schema::Envelope e = schema::envelope_of(s.line());
     extent.min_x = std::min(extent.min_x, e.min_x);
     extent.max_x = std::max(extent.max_x, e.max_x);
     extent.min_y = std::min(extent.min_y, e.min_y);
     extent.max_y = std::max(extent.max_y, e.max_y);
-    if (++written % 4096 == 0) progress.update(written, graph.segments.size());
   }
   return extent;
 }
@@ -246,6 +308,8 @@ void write_geopackage(const std::string& path, const DatabaseContents& contents,
       db.exec(statement);
     }
     const schema::Envelope extent = write_segment_rows(db, graph, progress);
+    progress.finish_stage(std::to_string(graph.segments.size()) + " segments");
+    progress.start_stage("spatial index");
     write_segment_rtree(db, graph);
     auto update = db.prepare(
         "UPDATE gpkg_contents SET min_x = ?, min_y = ?, max_x = ?, max_y = ? WHERE table_name = "
@@ -282,7 +346,9 @@ void write_geopackage(const std::string& path, const DatabaseContents& contents,
   } catch (const sqlite::sqlite_error& e) {
     throw OutputError(std::string("cannot write the database: ") + e.what());
   }
-  progress.finish_stage(std::to_string(graph.segments.size()) + " segments");
+  progress.finish_stage("R*Tree of " + std::to_string(graph.segments.size()) + " segments, " +
+                        std::to_string(contents.crossings ? contents.crossings->size() : 0) +
+                        " crossings");
 }
 
 }  // namespace roadcross::preprocess

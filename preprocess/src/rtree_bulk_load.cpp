@@ -4,7 +4,9 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <utility>
 
+#include "roadcross/preprocess/bulk_insert.hpp"
 #include "roadcross/schema/sqlite.hpp"
 
 namespace roadcross::preprocess {
@@ -115,6 +117,33 @@ Cell bounding_cell(const Cell* cells, std::size_t count, std::int64_t node_numbe
   return out;
 }
 
+/// The _rowid table's rows: (entry id, its leaf node), sorted by id.
+class RowidRows final : public RowSource {
+ public:
+  explicit RowidRows(const std::vector<std::pair<std::int64_t, std::int64_t>>& rows)
+      : rows_(rows) {}
+  std::size_t row_count() const override { return rows_.size(); }
+  int column_count() const override { return 2; }
+  void column(std::size_t row, int column, sqlite3_context* out) const override {
+    sqlite3_result_int64(out, column == 0 ? rows_[row].first : rows_[row].second);
+  }
+
+ private:
+  const std::vector<std::pair<std::int64_t, std::int64_t>>& rows_;
+};
+
+/// The _rowid table maps each entry id to its leaf node. The leaves hold the entries in Hilbert
+/// order, which is random in id: inserted in that order, every row is a B-tree search and a
+/// page split in the middle of the table; sorted by id first, every row is an append to the
+/// table's last page.
+void insert_rowid_rows(sqlite3* db, const std::string& rowid_table,
+                       std::vector<std::pair<std::int64_t, std::int64_t>>& leaf_of_entry) {
+  std::sort(leaf_of_entry.begin(), leaf_of_entry.end());
+  insert_rows(db, rowid_table, "rowid, nodeno", RowidRows(leaf_of_entry));
+  leaf_of_entry.clear();
+  leaf_of_entry.shrink_to_fit();
+}
+
 }  // namespace
 
 void bulk_load_rtree(sqlite3* db, const std::string& rtree_name, std::vector<RtreeEntry>& entries) {
@@ -128,7 +157,6 @@ void bulk_load_rtree(sqlite3* db, const std::string& rtree_name, std::vector<Rtr
   const std::size_t fanout = (node_size - 4) / kBytesPerCell;
 
   sqlite::Statement put_node(db, "INSERT OR REPLACE INTO " + quoted + "_node\" VALUES (?, ?)");
-  sqlite::Statement put_rowid(db, "INSERT INTO " + quoted + "_rowid\" VALUES (?, ?)");
   sqlite::Statement put_parent(db, "INSERT INTO " + quoted + "_parent\" VALUES (?, ?)");
 
   std::vector<Cell> level(entries.size());
@@ -142,6 +170,8 @@ void bulk_load_rtree(sqlite3* db, const std::string& rtree_name, std::vector<Rtr
   std::int64_t next_node = 2;
   int depth = 0;
   std::vector<std::int64_t> child_nodes;  // node numbers of `level`'s cells (inner levels)
+  std::vector<std::pair<std::int64_t, std::int64_t>> leaf_of_entry;  // (entry id, leaf node)
+  leaf_of_entry.reserve(entries.size());
   while (true) {
     const bool is_root_level = level.size() <= fanout;
     std::vector<Cell> parents;
@@ -154,14 +184,19 @@ void bulk_load_rtree(sqlite3* db, const std::string& rtree_name, std::vector<Rtr
       put_node.bind(2, std::span<const std::uint8_t>(blob));
       put_node.run();
       for (std::size_t i = start; i < start + count; ++i) {
-        sqlite::Statement& link = depth == 0 ? put_rowid : put_parent;
-        link.bind(1, depth == 0 ? level[i].id : child_nodes[i]);
-        link.bind(2, node);
-        link.run();
+        if (depth == 0) {
+          leaf_of_entry.emplace_back(level[i].id, node);
+        } else {
+          // Child node numbers grow along the level: these rows are appended in key order.
+          put_parent.bind(1, child_nodes[i]);
+          put_parent.bind(2, node);
+          put_parent.run();
+        }
       }
       parents.push_back(bounding_cell(&level[start], count, node));
       parent_nodes.push_back(node);
     }
+    if (depth == 0) insert_rowid_rows(db, rtree_name + "_rowid", leaf_of_entry);
     if (is_root_level) break;
     level.swap(parents);
     child_nodes.swap(parent_nodes);
