@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <random>
 #include <stdexcept>
@@ -218,31 +219,31 @@ std::string segment_column_list() {
   return names;
 }
 
-/// Inserts every segment row; returns the extent of all segments.
-schema::Envelope write_segment_rows(sqlite::Database& db, const RoadGraph& graph,
-                                    Progress& progress) {
+/// Inserts every segment row.
+void write_segment_rows(sqlite::Database& db, const RoadGraph& graph, Progress& progress) {
   const std::size_t total = graph.segments.size();
   insert_rows(db.handle(), schema::kSegmentsTable, segment_column_list(), SegmentRows(graph),
               [&](std::size_t done) { progress.update(done, total); });
+}
+
+/// Fills the R*Tree with every segment's bounding box (bulk load: see rtree_bulk_load.hpp);
+/// returns the extent of all segments.
+schema::Envelope write_segment_rtree(sqlite::Database& db, const RoadGraph& graph) {
+  std::vector<RtreeEntry> entries;
+  entries.reserve(graph.segments.size());
   schema::Envelope extent{
       std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
       std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
   for (const Segment& s : graph.segments) {
     const schema::Envelope e = schema::envelope_of(s.line());
+    entries.push_back({s.id, e});
     extent.min_x = std::min(extent.min_x, e.min_x);
     extent.max_x = std::max(extent.max_x, e.max_x);
     extent.min_y = std::min(extent.min_y, e.min_y);
     extent.max_y = std::max(extent.max_y, e.max_y);
   }
-  return extent;
-}
-
-/// Fills the R*Tree with every segment's bounding box (bulk load: see rtree_bulk_load.hpp).
-void write_segment_rtree(sqlite::Database& db, const RoadGraph& graph) {
-  std::vector<RtreeEntry> entries;
-  entries.reserve(graph.segments.size());
-  for (const Segment& s : graph.segments) entries.push_back({s.id, schema::envelope_of(s.line())});
   bulk_load_rtree(db.handle(), std::string(schema::kSegmentsRtree), entries);
+  return extent;
 }
 
 /// Inserts the crossing points (fid 1..n in the given order) and fills their R*Tree; returns
@@ -287,30 +288,51 @@ std::optional<schema::Envelope> write_crossings(sqlite::Database& db,
 
 }  // namespace
 
-void write_geopackage(const std::string& path, const DatabaseContents& contents,
-                      Progress& progress) {
-  const RoadGraph& graph = *contents.graph;
-  progress.start_stage("writing the GeoPackage", "segments");
+GeoPackageWriter::GeoPackageWriter(const std::string& path, const geo::UtmZone& zone,
+                                   const std::string& last_change)
+    : zone_(zone) {
   try {
-    sqlite::Database db(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOMUTEX);
+    db_ = std::make_unique<sqlite::Database>(
+        path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOMUTEX);
     // The file is private until renamed into place, so durability tricks are unnecessary:
     // no journal, no fsync; a fixed page size keeps the bytes identical across runs.
-    db.exec("PRAGMA page_size = 4096");
-    db.exec("PRAGMA journal_mode = OFF");
-    db.exec("PRAGMA synchronous = OFF");
+    db_->exec("PRAGMA page_size = 4096");
+    db_->exec("PRAGMA journal_mode = OFF");
+    db_->exec("PRAGMA synchronous = OFF");
     // A 64 MiB page cache: rows arrive in rowid order and the R*Tree is bulk-loaded, so a
     // larger cache only adds to the peak memory (256 MiB cost 190 MB more at 50x Monaco for
     // the same writing time).
-    db.exec("PRAGMA cache_size = -65536");
-    db.exec("BEGIN");
+    db_->exec("PRAGMA cache_size = -65536");
+    db_->exec("BEGIN");
     for (const std::string& statement :
-         schema::create_statements(graph.zone.zone, graph.zone.northern, contents.last_change)) {
-      db.exec(statement);
+         schema::create_statements(zone.zone, zone.northern, last_change)) {
+      db_->exec(statement);
     }
-    const schema::Envelope extent = write_segment_rows(db, graph, progress);
-    progress.finish_stage(std::to_string(graph.segments.size()) + " segments");
-    progress.start_stage("spatial index");
-    write_segment_rtree(db, graph);
+  } catch (const sqlite::sqlite_error& e) {
+    throw OutputError(std::string("cannot write the database: ") + e.what());
+  }
+}
+
+GeoPackageWriter::~GeoPackageWriter() = default;
+
+void GeoPackageWriter::write_segment_index(const RoadGraph& graph) {
+  try {
+    segment_extent_ = write_segment_rtree(*db_, graph);
+    indexed_segments_ = graph.segments.size();
+  } catch (const sqlite::sqlite_error& e) {
+    throw OutputError(std::string("cannot write the database: ") + e.what());
+  }
+}
+
+void GeoPackageWriter::finish(const DatabaseContents& contents, Progress& progress) {
+  const RoadGraph& graph = *contents.graph;
+  if (!indexed_segments_ || *indexed_segments_ != graph.segments.size()) {
+    throw std::logic_error("GeoPackageWriter::finish before write_segment_index of this graph");
+  }
+  progress.start_stage("writing the GeoPackage", "segments");
+  try {
+    sqlite::Database& db = *db_;
+    write_segment_rows(db, graph, progress);
     auto update = db.prepare(
         "UPDATE gpkg_contents SET min_x = ?, min_y = ?, max_x = ?, max_y = ? WHERE table_name = "
         "?");
@@ -322,9 +344,9 @@ void write_geopackage(const std::string& path, const DatabaseContents& contents,
       update.bind(5, table);
       update.run();
     };
-    set_extent(extent, schema::kSegmentsTable);
+    set_extent(segment_extent_, schema::kSegmentsTable);
     if (contents.crossings) {
-      const auto crossing_extent = write_crossings(db, *contents.crossings, graph.zone.epsg());
+      const auto crossing_extent = write_crossings(db, *contents.crossings, zone_.epsg());
       if (crossing_extent) set_extent(*crossing_extent, schema::kCrossingsTable);
     }
     for (const std::string& statement : schema::rtree_trigger_statements()) db.exec(statement);
@@ -337,16 +359,17 @@ void write_geopackage(const std::string& path, const DatabaseContents& contents,
       insert_meta.run();
     };
     put(schema::meta::kSchemaVersion, std::to_string(schema::kSchemaVersion));
-    put(schema::meta::kUtmZone, std::to_string(graph.zone.zone));
-    put(schema::meta::kUtmNorthern, graph.zone.northern ? "1" : "0");
-    put(schema::meta::kEpsg, std::to_string(graph.zone.epsg()));
+    put(schema::meta::kUtmZone, std::to_string(zone_.zone));
+    put(schema::meta::kUtmNorthern, zone_.northern ? "1" : "0");
+    put(schema::meta::kEpsg, std::to_string(zone_.epsg()));
     put(schema::meta::kSegmentCount, std::to_string(graph.segments.size()));
     for (const auto& [key, value] : contents.metadata) put(key, value);
     db.exec("COMMIT");
+    db_.reset();  // closes the file
   } catch (const sqlite::sqlite_error& e) {
     throw OutputError(std::string("cannot write the database: ") + e.what());
   }
-  progress.finish_stage("R*Tree of " + std::to_string(graph.segments.size()) + " segments, " +
+  progress.finish_stage(std::to_string(graph.segments.size()) + " segments, " +
                         std::to_string(contents.crossings ? contents.crossings->size() : 0) +
                         " crossings");
 }
