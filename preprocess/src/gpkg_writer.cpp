@@ -5,10 +5,12 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <future>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -55,6 +57,7 @@ AtomicOutput::~AtomicOutput() {
   if (!committed_) {
     std::remove(temp_path_.c_str());
     std::remove((temp_path_ + "-journal").c_str());
+    std::remove((temp_path_ + kSideRowsSuffix).c_str());
   }
   // Only now: a signal before this line removes what is already gone, which is harmless.
   set_interrupt_cleanup_path(nullptr);
@@ -103,7 +106,9 @@ class SegmentRows final : public RowSource {
  public:
   static constexpr int kColumns = 39;
 
-  explicit SegmentRows(const RoadGraph& graph) : graph_(graph), srs_id_(graph.zone.epsg()) {
+  /// Rows [first, last) of the graph's segments.
+  SegmentRows(const RoadGraph& graph, std::size_t first, std::size_t last)
+      : graph_(graph), first_(first), count_(last - first), srs_id_(graph.zone.epsg()) {
     // The column list lives in schema/; a column added there but not here must fail loudly.
     if (2 + static_cast<int>(schema::segment_columns().size()) != kColumns) {
       throw std::logic_error("the segments writer knows " + std::to_string(kColumns) +
@@ -111,11 +116,11 @@ class SegmentRows final : public RowSource {
                              std::to_string(2 + schema::segment_columns().size()));
     }
   }
-  std::size_t row_count() const override { return graph_.segments.size(); }
+  std::size_t row_count() const override { return count_; }
   int column_count() const override { return kColumns; }
 
   void column(std::size_t row, int column, sqlite3_context* out) const override {
-    const Segment& s = graph_.segments[row];
+    const Segment& s = graph_.segments[first_ + row];
     switch (column) {
       case 0:
         return sqlite3_result_int64(out, s.id);
@@ -208,6 +213,7 @@ class SegmentRows final : public RowSource {
 
  private:
   const RoadGraph& graph_;
+  std::size_t first_, count_;
   std::int32_t srs_id_;
 };
 
@@ -219,11 +225,67 @@ std::string segment_column_list() {
   return names;
 }
 
-/// Inserts every segment row.
-void write_segment_rows(sqlite::Database& db, const RoadGraph& graph, Progress& progress) {
+/// Inserts every segment row, on both cores: the second half goes into a side database
+/// (`<path>-rows`, same table) on a second thread while the first half goes into `db`; then
+/// SQLite copies the side table's records into `db` without decoding them (its "xfer"
+/// optimisation of INSERT INTO t SELECT * FROM t2: ~1 us a row instead of ~3 us to encode one).
+/// The rows and their order are the same as one insert of all rows.
+void write_segment_rows(sqlite::Database& db, const std::string& db_path, const RoadGraph& graph,
+                        Progress& progress) {
   const std::size_t total = graph.segments.size();
-  insert_rows(db.handle(), schema::kSegmentsTable, segment_column_list(), SegmentRows(graph),
-              [&](std::size_t done) { progress.update(done, total); });
+  const std::size_t split = total / 2;
+  const std::string side_path = db_path + kSideRowsSuffix;
+  std::string create_table;
+  {
+    auto query = db.prepare("SELECT sql FROM sqlite_master WHERE type = 'table' AND name = ?");
+    query.bind(1, schema::kSegmentsTable);
+    if (!query.step()) throw std::logic_error("no segments table to write into");
+    create_table = query.column_text(0);
+  }
+  std::atomic<std::size_t> side_rows_done{0};
+  std::future<void> side = std::async(std::launch::async, [&] {
+    sqlite::Database side_db(side_path,
+                             SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOMUTEX);
+    side_db.exec("PRAGMA page_size = 4096");
+    side_db.exec("PRAGMA journal_mode = OFF");
+    side_db.exec("PRAGMA synchronous = OFF");
+    side_db.exec("BEGIN");
+    side_db.exec(create_table);
+    insert_rows(side_db.handle(), schema::kSegmentsTable, segment_column_list(),
+                SegmentRows(graph, split, total), [&](std::size_t done) { side_rows_done = done; });
+    side_db.exec("COMMIT");
+  });
+  try {
+    insert_rows(db.handle(), schema::kSegmentsTable, segment_column_list(),
+                SegmentRows(graph, 0, split),
+                [&](std::size_t done) { progress.update(done + side_rows_done, total); });
+  } catch (...) {
+    side.wait();  // it reads the graph and writes the side file: let it stop first
+    std::remove(side_path.c_str());
+    throw;
+  }
+  try {
+    side.get();
+  } catch (...) {
+    std::remove(side_path.c_str());
+    throw;
+  }
+  std::string table = "\"";  // (not "\"" + ...: GCC 12 warns falsely, -Wrestrict)
+  table += schema::kSegmentsTable;
+  table += '"';
+  // ATTACH cannot run inside a transaction; with journal_mode OFF, COMMIT and BEGIN only end and
+  // start the batch (nothing is synced).
+  db.exec("COMMIT");
+  sqlite::Statement attach = db.prepare("ATTACH DATABASE ? AS side_rows");
+  attach.bind(1, side_path);
+  attach.run();
+  db.exec("BEGIN");
+  db.exec("INSERT INTO main." + table + " SELECT * FROM side_rows." + table);
+  db.exec("COMMIT");
+  db.exec("DETACH DATABASE side_rows");
+  std::remove(side_path.c_str());
+  db.exec("BEGIN");
+  progress.update(total, total);
 }
 
 /// Fills the R*Tree with every segment's bounding box (bulk load: see rtree_bulk_load.hpp);
@@ -290,7 +352,7 @@ std::optional<schema::Envelope> write_crossings(sqlite::Database& db,
 
 GeoPackageWriter::GeoPackageWriter(const std::string& path, const geo::UtmZone& zone,
                                    const std::string& last_change)
-    : zone_(zone) {
+    : zone_(zone), path_(path) {
   try {
     db_ = std::make_unique<sqlite::Database>(
         path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOMUTEX);
@@ -332,7 +394,7 @@ void GeoPackageWriter::finish(const DatabaseContents& contents, Progress& progre
   progress.start_stage("writing the GeoPackage", "segments");
   try {
     sqlite::Database& db = *db_;
-    write_segment_rows(db, graph, progress);
+    write_segment_rows(db, path_, graph, progress);
     auto update = db.prepare(
         "UPDATE gpkg_contents SET min_x = ?, min_y = ?, max_x = ?, max_y = ? WHERE table_name = "
         "?");

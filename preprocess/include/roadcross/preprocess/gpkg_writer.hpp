@@ -31,6 +31,10 @@ struct DatabaseContents {
   std::string last_change = "1970-01-01T00:00:00.000Z";
 };
 
+/// Suffix of the side database the writer fills on its second thread (`<output>-rows`),
+/// removed when its rows are copied; AtomicOutput and the interrupt handler remove it too.
+inline constexpr const char* kSideRowsSuffix = "-rows";
+
 /// A temporary output file that is removed unless committed.
 class AtomicOutput {
  public:
@@ -78,6 +82,7 @@ class GeoPackageWriter {
 
  private:
   geo::UtmZone zone_;
+  std::string path_;
   std::unique_ptr<sqlite::Database> db_;
   schema::Envelope segment_extent_{};
   std::optional<std::size_t> indexed_segments_;
