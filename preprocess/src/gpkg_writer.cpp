@@ -291,20 +291,23 @@ void write_segment_rows(sqlite::Database& db, const std::string& db_path, const 
 /// Fills the R*Tree with every segment's bounding box (bulk load: see rtree_bulk_load.hpp);
 /// returns the extent of all segments.
 schema::Envelope write_segment_rtree(sqlite::Database& db, const RoadGraph& graph) {
-  std::vector<RtreeEntry> entries;
-  entries.reserve(graph.segments.size());
   schema::Envelope extent{
       std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
       std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
   for (const Segment& s : graph.segments) {
     const schema::Envelope e = schema::envelope_of(s.line());
-    entries.push_back({s.id, e});
     extent.min_x = std::min(extent.min_x, e.min_x);
     extent.max_x = std::max(extent.max_x, e.max_x);
     extent.min_y = std::min(extent.min_y, e.min_y);
     extent.max_y = std::max(extent.max_y, e.max_y);
   }
-  bulk_load_rtree(db.handle(), std::string(schema::kSegmentsRtree), entries);
+  // The boxes are computed from the lines as the load needs them, not held: this runs beside
+  // the cost stages, at the build's peak memory.
+  bulk_load_rtree(db.handle(), std::string(schema::kSegmentsRtree), graph.segments.size(),
+                  [&](std::size_t i) {
+                    const Segment& s = graph.segments[i];
+                    return RtreeEntry{s.id, schema::envelope_of(s.line())};
+                  });
   return extent;
 }
 
