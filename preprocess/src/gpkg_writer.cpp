@@ -396,47 +396,54 @@ void GeoPackageWriter::finish(const DatabaseContents& contents, Progress& progre
   }
   progress.start_stage("writing the GeoPackage", "segments");
   try {
-    sqlite::Database& db = *db_;
-    write_segment_rows(db, path_, graph, progress);
-    auto update = db.prepare(
-        "UPDATE gpkg_contents SET min_x = ?, min_y = ?, max_x = ?, max_y = ? WHERE table_name = "
-        "?");
-    const auto set_extent = [&](const schema::Envelope& e, std::string_view table) {
-      update.bind(1, e.min_x);
-      update.bind(2, e.min_y);
-      update.bind(3, e.max_x);
-      update.bind(4, e.max_y);
-      update.bind(5, table);
-      update.run();
-    };
-    set_extent(segment_extent_, schema::kSegmentsTable);
-    if (contents.crossings) {
-      const auto crossing_extent = write_crossings(db, *contents.crossings, zone_.epsg());
-      if (crossing_extent) set_extent(*crossing_extent, schema::kCrossingsTable);
-    }
-    for (const std::string& statement : schema::rtree_trigger_statements()) db.exec(statement);
-
-    auto insert_meta =
-        db.prepare("INSERT INTO " + std::string(schema::kMetadataTable) + " VALUES (?, ?)");
-    auto put = [&](std::string_view key, const std::string& value) {
-      insert_meta.bind(1, key);
-      insert_meta.bind(2, value);
-      insert_meta.run();
-    };
-    put(schema::meta::kSchemaVersion, std::to_string(schema::kSchemaVersion));
-    put(schema::meta::kUtmZone, std::to_string(zone_.zone));
-    put(schema::meta::kUtmNorthern, zone_.northern ? "1" : "0");
-    put(schema::meta::kEpsg, std::to_string(zone_.epsg()));
-    put(schema::meta::kSegmentCount, std::to_string(graph.segments.size()));
-    for (const auto& [key, value] : contents.metadata) put(key, value);
-    db.exec("COMMIT");
-    db_.reset();  // closes the file
+    write_rows_and_metadata(contents, progress);
+    // Only now: a statement still open would keep sqlite3_close from closing the file.
+    db_.reset();
   } catch (const sqlite::sqlite_error& e) {
     throw OutputError(std::string("cannot write the database: ") + e.what());
   }
   progress.finish_stage(std::to_string(graph.segments.size()) + " segments, " +
                         std::to_string(contents.crossings ? contents.crossings->size() : 0) +
                         " crossings");
+}
+
+void GeoPackageWriter::write_rows_and_metadata(const DatabaseContents& contents,
+                                               Progress& progress) {
+  const RoadGraph& graph = *contents.graph;
+  sqlite::Database& db = *db_;
+  write_segment_rows(db, path_, graph, progress);
+  auto update = db.prepare(
+      "UPDATE gpkg_contents SET min_x = ?, min_y = ?, max_x = ?, max_y = ? WHERE table_name = "
+      "?");
+  const auto set_extent = [&](const schema::Envelope& e, std::string_view table) {
+    update.bind(1, e.min_x);
+    update.bind(2, e.min_y);
+    update.bind(3, e.max_x);
+    update.bind(4, e.max_y);
+    update.bind(5, table);
+    update.run();
+  };
+  set_extent(segment_extent_, schema::kSegmentsTable);
+  if (contents.crossings) {
+    const auto crossing_extent = write_crossings(db, *contents.crossings, zone_.epsg());
+    if (crossing_extent) set_extent(*crossing_extent, schema::kCrossingsTable);
+  }
+  for (const std::string& statement : schema::rtree_trigger_statements()) db.exec(statement);
+
+  auto insert_meta =
+      db.prepare("INSERT INTO " + std::string(schema::kMetadataTable) + " VALUES (?, ?)");
+  auto put = [&](std::string_view key, const std::string& value) {
+    insert_meta.bind(1, key);
+    insert_meta.bind(2, value);
+    insert_meta.run();
+  };
+  put(schema::meta::kSchemaVersion, std::to_string(schema::kSchemaVersion));
+  put(schema::meta::kUtmZone, std::to_string(zone_.zone));
+  put(schema::meta::kUtmNorthern, zone_.northern ? "1" : "0");
+  put(schema::meta::kEpsg, std::to_string(zone_.epsg()));
+  put(schema::meta::kSegmentCount, std::to_string(graph.segments.size()));
+  for (const auto& [key, value] : contents.metadata) put(key, value);
+  db.exec("COMMIT");
 }
 
 }  // namespace roadcross::preprocess

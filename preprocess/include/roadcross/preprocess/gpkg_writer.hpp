@@ -81,6 +81,8 @@ class GeoPackageWriter {
   void finish(const DatabaseContents& contents, Progress& progress);
 
  private:
+  void write_rows_and_metadata(const DatabaseContents& contents, Progress& progress);
+
   geo::UtmZone zone_;
   std::string path_;
   std::unique_ptr<sqlite::Database> db_;
