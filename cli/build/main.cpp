@@ -1,6 +1,7 @@
 // roadcross-build: OSM extract + elevation (XYZ points, rasters) -> roadcross GeoPackage.
 #include <CLI/CLI.hpp>
 
+#include <sqlite3.h>
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -74,6 +75,10 @@ void apply_config_file(CLI::App& app, const std::string& path, rp::Parameters& p
 }  // namespace
 
 int main(int argc, char** argv) {
+  // SQLite counts every allocation under one process-wide mutex unless told not to; the build
+  // never reads the counts, and the GeoPackage writers allocate per row on two threads.
+  // (Only possible before SQLite initialises, i.e. first thing.)
+  sqlite3_config(SQLITE_CONFIG_MEMSTATUS, 0);
   CLI::App app{
       "roadcross-build: turn an OpenStreetMap extract into a roadcross GeoPackage of short road\n"
       "segments with crossing cost terms, for the roadcross runtime.\n\n"

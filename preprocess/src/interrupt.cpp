@@ -6,6 +6,8 @@
 #include <cstring>
 #include <initializer_list>
 
+#include "roadcross/preprocess/gpkg_writer.hpp"
+
 namespace roadcross::preprocess {
 namespace {
 
@@ -13,6 +15,7 @@ namespace {
 // path is kept in a fixed buffer and published through an atomic flag.
 char g_cleanup_path[4096];
 char g_cleanup_journal_path[4096 + 8];  // the path + "-journal" (SQLite's rollback journal)
+char g_cleanup_side_path[4096 + 8];     // the path + "-rows" (the writer's side database)
 volatile std::sig_atomic_t g_has_cleanup_path = 0;
 
 void write_stderr(const char* text) noexcept {
@@ -24,6 +27,7 @@ extern "C" void on_interrupt(int signal_number) {
   if (g_has_cleanup_path) {
     ::unlink(g_cleanup_path);
     ::unlink(g_cleanup_journal_path);
+    ::unlink(g_cleanup_side_path);
     write_stderr("\nroadcross-build: interrupted; removed the partial output ");
     write_stderr(g_cleanup_path);
     write_stderr("\n");
@@ -52,6 +56,8 @@ void set_interrupt_cleanup_path(const char* path) noexcept {
   std::strcpy(g_cleanup_path, path);
   std::strcpy(g_cleanup_journal_path, path);
   std::strcat(g_cleanup_journal_path, "-journal");
+  std::strcpy(g_cleanup_side_path, path);
+  std::strcat(g_cleanup_side_path, kSideRowsSuffix);
   g_has_cleanup_path = 1;
 }
 

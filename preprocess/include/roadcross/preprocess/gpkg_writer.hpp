@@ -2,12 +2,18 @@
 // everything goes to a temporary file beside the target, renamed over it only on success.
 #pragma once
 
+#include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "roadcross/preprocess/crossings.hpp"
 #include "roadcross/preprocess/segments.hpp"
+
+namespace roadcross::sqlite {
+class Database;
+}
 
 namespace roadcross::preprocess {
 
@@ -24,6 +30,10 @@ struct DatabaseContents {
   /// the output is byte-identical for identical inputs.
   std::string last_change = "1970-01-01T00:00:00.000Z";
 };
+
+/// Suffix of the side database the writer fills on its second thread (`<output>-rows`),
+/// removed when its rows are copied; AtomicOutput and the interrupt handler remove it too.
+inline constexpr const char* kSideRowsSuffix = "-rows";
 
 /// A temporary output file that is removed unless committed.
 class AtomicOutput {
@@ -46,8 +56,38 @@ class AtomicOutput {
   bool committed_ = false;
 };
 
-/// Writes a complete GeoPackage at `path` (which must not exist or be empty).
-void write_geopackage(const std::string& path, const DatabaseContents& contents,
-                      Progress& progress);
+/// Writes a roadcross GeoPackage in steps, so that the segments' spatial index (which needs
+/// only their lines) can be written on another thread while the cost stages fill the terms:
+///
+///     GeoPackageWriter writer(path, graph.zone, last_change);  // creates the tables
+///     auto index = std::async(std::launch::async, [&] { writer.write_segment_index(graph); });
+///     ...  // cost stages: they must not change the segments' number, ids or lines
+///     index.get();
+///     writer.finish(contents, progress);  // segment rows, crossings, metadata; closes the file
+///
+/// Methods throw OutputError (SQLite's message); the caller removes the file (AtomicOutput).
+class GeoPackageWriter {
+ public:
+  /// Creates the schema in `path` (a new or empty file) in an open transaction.
+  GeoPackageWriter(const std::string& path, const geo::UtmZone& zone,
+                   const std::string& last_change);
+  GeoPackageWriter(const GeoPackageWriter&) = delete;
+  GeoPackageWriter& operator=(const GeoPackageWriter&) = delete;
+  ~GeoPackageWriter();
+
+  /// The segments' R*Tree and extent. Reads only the segments' ids and lines.
+  void write_segment_index(const RoadGraph& graph);
+  /// Everything else, after write_segment_index() of the same graph has returned; commits.
+  void finish(const DatabaseContents& contents, Progress& progress);
+
+ private:
+  void write_rows_and_metadata(const DatabaseContents& contents, Progress& progress);
+
+  geo::UtmZone zone_;
+  std::string path_;
+  std::unique_ptr<sqlite::Database> db_;
+  schema::Envelope segment_extent_{};
+  std::optional<std::size_t> indexed_segments_;
+};
 
 }  // namespace roadcross::preprocess

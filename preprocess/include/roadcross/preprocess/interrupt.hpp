@@ -8,7 +8,8 @@ namespace roadcross::preprocess {
 /// Installs the handlers. Call once from main() of a tool that writes via AtomicOutput.
 void install_interrupt_cleanup() noexcept;
 
-/// The temporary file the handlers remove, with its SQLite "-journal" (nullptr for none). Used
+/// The temporary file the handlers remove, with its SQLite "-journal" and the writer's "-rows"
+/// side database (nullptr for none). Used
 /// by AtomicOutput, which registers a name before it creates the file and removes the file
 /// before it unregisters the name: a signal at any moment finds no unknown file.
 void set_interrupt_cleanup_path(const char* path) noexcept;

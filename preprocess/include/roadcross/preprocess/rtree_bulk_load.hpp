@@ -6,7 +6,9 @@
 // verified with SQLite's own rtreecheck() in the tests.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -23,7 +25,13 @@ struct RtreeEntry {
 
 /// Fills the empty 2-D R*Tree virtual table `rtree_name` (created with CREATE VIRTUAL TABLE ...
 /// USING rtree(id, minx, maxx, miny, maxy) in `db`, nothing inserted yet) with `entries`.
-/// Entries are reordered. Throws sqlite::sqlite_error on failure.
-void bulk_load_rtree(sqlite3* db, const std::string& rtree_name, std::vector<RtreeEntry>& entries);
+/// Throws sqlite::sqlite_error on failure.
+void bulk_load_rtree(sqlite3* db, const std::string& rtree_name,
+                     const std::vector<RtreeEntry>& entries);
+
+/// The same for `count` entries produced by `entry_at(i)`, i < count (called twice per
+/// entry): the caller need not hold the entries (40 bytes each; the load holds 32).
+void bulk_load_rtree(sqlite3* db, const std::string& rtree_name, std::size_t count,
+                     const std::function<RtreeEntry(std::size_t)>& entry_at);
 
 }  // namespace roadcross::preprocess

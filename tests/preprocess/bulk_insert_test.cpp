@@ -1,0 +1,138 @@
+// insert_rows(): rows pulled through a virtual table arrive exactly as bound inserts would
+// write them (types, NULLs, texts, blobs, order), twice on one connection, with progress, and a
+// RowSource's exception or a constraint violation fails the insert with its message.
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+#include <vector>
+
+#include "roadcross/preprocess/bulk_insert.hpp"
+#include "roadcross/schema/sqlite.hpp"
+
+namespace rp = roadcross::preprocess;
+namespace sqlite = roadcross::sqlite;
+
+namespace {
+
+/// Row r: (r + 1, r * 0.5, "t<r>" or NULL for odd r, blob {r, r + 1}).
+class NumberedRows final : public rp::RowSource {
+ public:
+  explicit NumberedRows(std::size_t rows, std::size_t throw_at_row = SIZE_MAX)
+      : rows_(rows), throw_at_row_(throw_at_row) {}
+  std::size_t row_count() const override { return rows_; }
+  int column_count() const override { return 4; }
+  void column(std::size_t row, int column, sqlite3_context* out) const override {
+    if (row == throw_at_row_) throw std::runtime_error("row " + std::to_string(row) + " broken");
+    switch (column) {
+      case 0:
+        return sqlite3_result_int64(out, static_cast<sqlite3_int64>(row) + 1);
+      case 1:
+        return sqlite3_result_double(out, static_cast<double>(row) * 0.5);
+      case 2: {
+        if (row % 2 == 1) return;  // NULL
+        std::string text = "t";    // (not "t" + ...: GCC 12 warns falsely, -Wrestrict)
+        text += std::to_string(row);
+        return sqlite3_result_text(out, text.data(), static_cast<int>(text.size()),
+                                   SQLITE_TRANSIENT);
+      }
+      case 3: {
+        const unsigned char blob[2] = {static_cast<unsigned char>(row),
+                                       static_cast<unsigned char>(row + 1)};
+        return sqlite3_result_blob(out, blob, 2, SQLITE_TRANSIENT);
+      }
+    }
+  }
+
+ private:
+  std::size_t rows_, throw_at_row_;
+};
+
+sqlite::Database table_db() {
+  sqlite::Database db(":memory:", SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
+  db.exec("CREATE TABLE t (id INTEGER PRIMARY KEY, x REAL NOT NULL, s TEXT, b BLOB)");
+  return db;
+}
+
+std::string dump(sqlite::Database& db) {
+  auto rows =
+      db.prepare("SELECT id, typeof(x), x, typeof(s), ifnull(s, '-'), hex(b) FROM t ORDER BY id");
+  std::string out;
+  while (rows.step()) {
+    out += std::to_string(rows.column_int64(0)) + " " + rows.column_text(1) + " " +
+           rows.column_text(2) + " " + rows.column_text(3) + " " + rows.column_text(4) + " " +
+           rows.column_text(5) + "\n";
+  }
+  return out;
+}
+
+TEST(BulkInsert, RowsArriveAsBoundInsertsWriteThem) {
+  sqlite::Database by_feed = table_db();
+  rp::insert_rows(by_feed.handle(), "t", "id, x, s, b", NumberedRows(3));
+  EXPECT_EQ(dump(by_feed),
+            "1 real 0.0 text t0 0001\n"
+            "2 real 0.5 null - 0102\n"
+            "3 real 1.0 text t2 0203\n");
+
+  // The same rows through a prepared statement give the same table.
+  sqlite::Database by_statement = table_db();
+  auto insert = by_statement.prepare("INSERT INTO t (id, x, s, b) VALUES (?, ?, ?, ?)");
+  for (int r = 0; r < 3; ++r) {
+    const std::uint8_t blob[2] = {static_cast<std::uint8_t>(r), static_cast<std::uint8_t>(r + 1)};
+    insert.bind(1, std::int64_t{r + 1});
+    insert.bind(2, r * 0.5);
+    if (r % 2 == 0) {
+      std::string text = "t";
+      text += std::to_string(r);
+      insert.bind(3, std::string_view(text));
+    } else {
+      insert.bind_null(3);
+    }
+    insert.bind(4, std::span<const std::uint8_t>(blob));
+    insert.run();
+  }
+  EXPECT_EQ(dump(by_statement), dump(by_feed));
+}
+
+TEST(BulkInsert, ManyRowsTwiceOnOneConnectionWithProgress) {
+  sqlite::Database db = table_db();
+  db.exec("CREATE TABLE u (id INTEGER PRIMARY KEY, x REAL, s TEXT, b BLOB)");
+  std::vector<std::size_t> reported;
+  rp::insert_rows(db.handle(), "t", "id, x, s, b", NumberedRows(10000),
+                  [&](std::size_t done) { reported.push_back(done); });
+  EXPECT_EQ(reported, (std::vector<std::size_t>{4096, 8192}));
+  rp::insert_rows(db.handle(), "u", "id, x, s, b", NumberedRows(5));
+  auto count = db.prepare(
+      "SELECT (SELECT count(*) FROM t), (SELECT sum(id) FROM t), "
+      "(SELECT count(*) FROM u), (SELECT count(s) FROM t)");
+  ASSERT_TRUE(count.step());
+  EXPECT_EQ(count.column_int64(0), 10000);
+  EXPECT_EQ(count.column_int64(1), 10000LL * 10001 / 2);
+  EXPECT_EQ(count.column_int64(2), 5);
+  EXPECT_EQ(count.column_int64(3), 5000);  // the even rows
+}
+
+TEST(BulkInsert, EmptySourceInsertsNothing) {
+  sqlite::Database db = table_db();
+  rp::insert_rows(db.handle(), "t", "id, x, s, b", NumberedRows(0));
+  EXPECT_EQ(dump(db), "");
+}
+
+TEST(BulkInsert, SourceExceptionFailsTheInsertWithItsMessage) {
+  sqlite::Database db = table_db();
+  db.exec("BEGIN");
+  try {
+    rp::insert_rows(db.handle(), "t", "id, x, s, b", NumberedRows(10, 7));
+    FAIL() << "no exception";
+  } catch (const sqlite::sqlite_error& e) {
+    EXPECT_NE(std::string(e.what()).find("row 7 broken"), std::string::npos) << e.what();
+  }
+}
+
+TEST(BulkInsert, ConstraintViolationFails) {
+  sqlite::Database db = table_db();
+  db.exec("INSERT INTO t VALUES (2, 0, NULL, NULL)");  // row 1 of the source has id 2
+  EXPECT_THROW(rp::insert_rows(db.handle(), "t", "id, x, s, b", NumberedRows(3)),
+               sqlite::sqlite_error);
+}
+
+}  // namespace
