@@ -108,30 +108,28 @@ bool is_junction(const RoadGraph& graph, std::int64_t node) {
 }
 
 /// Shortest distance along the road from every graph node to a junction (multi-source
-/// Dijkstra over the pieces); nodes that reach none are absent.
-std::unordered_map<std::int64_t, double> distance_to_junction(const RoadGraph& graph) {
-  std::unordered_map<std::int64_t, std::vector<std::pair<std::int64_t, double>>> adjacent;
-  for (const RoadPiece& piece : graph.pieces) {
-    adjacent[piece.from_node_id].emplace_back(piece.to_node_id, piece.length_m);
-    adjacent[piece.to_node_id].emplace_back(piece.from_node_id, piece.length_m);
-  }
-  std::unordered_map<std::int64_t, double> distance;
-  using Entry = std::pair<double, std::int64_t>;
+/// Dijkstra over the pieces), by the node's position in `nodes`; infinity where none is
+/// reachable.
+std::vector<double> distance_to_junction(const RoadGraph& graph, const Incidences& nodes) {
+  std::vector<double> distance(nodes.node_count(), std::numeric_limits<double>::infinity());
+  // Entries (distance, node position); positions are in node id order, so ties pop by id.
+  using Entry = std::pair<double, std::size_t>;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
-  for (const auto& [node, degree] : graph.degree) {
-    if (degree >= 3) {
-      distance[node] = 0.0;
-      queue.push({0.0, node});
+  for (std::size_t n = 0; n < nodes.node_count(); ++n) {
+    if (nodes.at_index(n).size() >= 3) {  // the node's degree: its piece ends
+      distance[n] = 0.0;
+      queue.push({0.0, n});
     }
   }
   while (!queue.empty()) {
-    const auto [d, node] = queue.top();
+    const auto [d, n] = queue.top();
     queue.pop();
-    if (d > distance[node]) continue;
-    for (const auto& [next, length] : adjacent[node]) {
-      const double candidate = d + length;
-      const auto it = distance.find(next);
-      if (it == distance.end() || candidate < it->second) {
+    if (d > distance[n]) continue;
+    for (const Incidence& end : nodes.at_index(n)) {
+      const RoadPiece& piece = graph.pieces[end.piece];
+      const std::size_t next = nodes.index_of(end.at_end ? piece.from_node_id : piece.to_node_id);
+      const double candidate = d + piece.length_m;
+      if (candidate < distance[next]) {
         distance[next] = candidate;
         queue.push({candidate, next});
       }
@@ -141,11 +139,9 @@ std::unordered_map<std::int64_t, double> distance_to_junction(const RoadGraph& g
 }
 
 void assign_junction_distances(RoadGraph& graph, const GeometryParameters& p) {
-  const auto distance = distance_to_junction(graph);
-  const auto at = [&](std::int64_t node) {
-    const auto it = distance.find(node);
-    return it == distance.end() ? std::numeric_limits<double>::infinity() : it->second;
-  };
+  const Incidences nodes(graph);
+  const std::vector<double> distance = distance_to_junction(graph, nodes);
+  const auto at = [&](std::int64_t node) { return distance[nodes.index_of(node)]; };
   for (const RoadPiece& piece : graph.pieces) {
     const double from_end = at(piece.from_node_id), to_end = at(piece.to_node_id);
     for (std::size_t k = 0; k < piece.segment_count; ++k) {

@@ -274,13 +274,35 @@ RoadGraph build_road_graph(const RoadNetwork& network, geo::UtmZone zone,
   return graph;
 }
 
-Incidences incidences_of(const RoadGraph& graph) {
-  Incidences out;
+Incidences::Incidences(const RoadGraph& graph) {
+  std::vector<std::pair<std::int64_t, Incidence>> ends;
+  ends.reserve(2 * graph.pieces.size());
   for (std::size_t p = 0; p < graph.pieces.size(); ++p) {
-    out[graph.pieces[p].from_node_id].push_back({p, false});
-    out[graph.pieces[p].to_node_id].push_back({p, true});
+    ends.push_back({graph.pieces[p].from_node_id, {p, false}});
+    ends.push_back({graph.pieces[p].to_node_id, {p, true}});
   }
-  return out;
+  // Stable: each node keeps its ends in piece order, from-end first.
+  std::stable_sort(ends.begin(), ends.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  ends_.reserve(ends.size());
+  for (std::size_t i = 0; i < ends.size(); ++i) {
+    if (i == 0 || ends[i].first != ends[i - 1].first) {
+      nodes_.push_back(ends[i].first);
+      first_.push_back(i);
+    }
+    ends_.push_back(ends[i].second);
+  }
+  first_.push_back(ends_.size());
+}
+
+std::size_t Incidences::index_of(std::int64_t node) const noexcept {
+  const auto it = std::lower_bound(nodes_.begin(), nodes_.end(), node);
+  return it != nodes_.end() && *it == node ? static_cast<std::size_t>(it - nodes_.begin()) : npos;
+}
+
+std::span<const Incidence> Incidences::at(std::int64_t node) const noexcept {
+  const std::size_t index = index_of(node);
+  return index == npos ? std::span<const Incidence>() : at_index(index);
 }
 
 }  // namespace roadcross::preprocess

@@ -251,11 +251,9 @@ PlanePoint leaving_direction(const RoadPiece& piece, bool at_end) {
 const Incidence* continuation(const RoadGraph& graph, const Incidences& incidences,
                               std::int64_t node, const Incidence& arrived,
                               const PlanePoint& heading) {
-  const auto it = incidences.find(node);
-  if (it == incidences.end()) return nullptr;
   const Incidence* best = nullptr;
   double best_cos = -2.0;
-  for (const Incidence& c : it->second) {
+  for (const Incidence& c : incidences.at(node)) {
     if (c.piece == arrived.piece && c.at_end == arrived.at_end) continue;
     const PlanePoint d = leaving_direction(graph.pieces[c.piece], c.at_end);
     const double cos = d.x * heading.x + d.y * heading.y;

@@ -25,10 +25,10 @@ std::vector<Step> walk(const RoadGraph& graph, const Incidences& incidences, std
                        bool& closed) {
   std::vector<Step> steps;
   while (true) {
-    const auto it = incidences.find(node);
-    if (it == incidences.end() || it->second.size() != 2) break;
-    const Incidence& a = it->second[0];
-    const Incidence& b = it->second[1];
+    const std::span<const Incidence> ends = incidences.at(node);
+    if (ends.size() != 2) break;
+    const Incidence& a = ends[0];
+    const Incidence& b = ends[1];
     const Incidence next = (a.piece == came_from.piece && a.at_end == came_from.at_end) ? b : a;
     if (next.piece == start_piece) {
       closed = true;
@@ -102,8 +102,7 @@ void for_each_stroke(const RoadGraph& graph, const std::function<void(const Stro
         }
       }
     } else {
-      const auto it = incidences.find(piece.from_node_id);
-      closed = it != incidences.end() && it->second.size() == 2;
+      closed = incidences.at(piece.from_node_id).size() == 2;
     }
     visit(make_stroke(graph, steps, closed));
   }

@@ -175,6 +175,40 @@ TEST(Segmentation, CrossingWaysMakeADegreeFourNode) {
   EXPECT_EQ(degree(b.graph, 2), 4);
 }
 
+TEST(Segmentation, IncidencesListEachNodesPieceEndsInPieceOrder) {
+  // The T of TJunctionWhereAWayEndsOnAnotherInterior: pieces in way order, 0 = 1-2 and
+  // 1 = 2-3 (way 10 split at 2), 2 = 2-4 (way 20). Node 2 has ends {0 to-end, 1 from-end,
+  // 2 from-end}: piece order, and their count is the node's degree.
+  const Built b = build(rt::osm_node(1, 50.0, 14.399) + rt::osm_node(2, 50.0, 14.4) +
+                        rt::osm_node(3, 50.0, 14.401) + rt::osm_node(4, 50.001, 14.4) +
+                        rt::osm_way(10, "1 2 3", "highway=secondary") +
+                        rt::osm_way(20, "2 4", "highway=residential"));
+  ASSERT_EQ(b.graph.pieces.size(), 3u);
+  ASSERT_EQ(b.graph.pieces[0].to_node_id, 2);
+  ASSERT_EQ(b.graph.pieces[1].from_node_id, 2);
+  ASSERT_EQ(b.graph.pieces[2].to_node_id, 4);
+  const rp::Incidences incidences(b.graph);
+  EXPECT_EQ(incidences.node_count(), 4u);  // 1, 2, 3, 4
+  const auto at_2 = incidences.at(2);
+  ASSERT_EQ(at_2.size(), 3u);
+  EXPECT_EQ(at_2[0].piece, 0u);
+  EXPECT_TRUE(at_2[0].at_end);
+  EXPECT_EQ(at_2[1].piece, 1u);
+  EXPECT_FALSE(at_2[1].at_end);
+  EXPECT_EQ(at_2[2].piece, 2u);
+  EXPECT_FALSE(at_2[2].at_end);
+  ASSERT_EQ(incidences.at(4).size(), 1u);
+  EXPECT_EQ(incidences.at(4)[0].piece, 2u);
+  EXPECT_TRUE(incidences.at(4)[0].at_end);
+  EXPECT_EQ(incidences.index_of(1), 0u);
+  EXPECT_EQ(incidences.index_of(4), 3u);
+  EXPECT_TRUE(incidences.at(99).empty());  // not a graph node
+  EXPECT_EQ(incidences.index_of(99), rp::Incidences::npos);
+  for (const auto& [node, count] : b.graph.degree) {
+    EXPECT_EQ(static_cast<int>(incidences.at(node).size()), count) << node;
+  }
+}
+
 TEST(Segmentation, WaysJoinedEndToEndAreNotAJunction) {
   const Built b =
       build(rt::osm_node(1, 50.0, 14.399) + rt::osm_node(2, 50.0, 14.4) +
