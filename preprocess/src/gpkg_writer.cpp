@@ -288,19 +288,23 @@ void write_segment_rows(sqlite::Database& db, const std::string& db_path, const 
   progress.update(total, total);
 }
 
+/// The extent of nothing: grow() with any box gives that box.
+constexpr schema::Envelope kEmptyEnvelope{
+    std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+    std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+
+void grow(schema::Envelope& extent, const schema::Envelope& box) {
+  extent.min_x = std::min(extent.min_x, box.min_x);
+  extent.max_x = std::max(extent.max_x, box.max_x);
+  extent.min_y = std::min(extent.min_y, box.min_y);
+  extent.max_y = std::max(extent.max_y, box.max_y);
+}
+
 /// Fills the R*Tree with every segment's bounding box (bulk load: see rtree_bulk_load.hpp);
 /// returns the extent of all segments.
 schema::Envelope write_segment_rtree(sqlite::Database& db, const RoadGraph& graph) {
-  schema::Envelope extent{
-      std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
-      std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
-  for (const Segment& s : graph.segments) {
-    const schema::Envelope e = schema::envelope_of(graph.line(s));
-    extent.min_x = std::min(extent.min_x, e.min_x);
-    extent.max_x = std::max(extent.max_x, e.max_x);
-    extent.min_y = std::min(extent.min_y, e.min_y);
-    extent.max_y = std::max(extent.max_y, e.max_y);
-  }
+  schema::Envelope extent = kEmptyEnvelope;
+  for (const Segment& s : graph.segments) grow(extent, schema::envelope_of(graph.line(s)));
   // The boxes are computed from the lines as the load needs them, not held: this runs beside
   // the cost stages, at the build's peak memory.
   bulk_load_rtree(db.handle(), std::string(schema::kSegmentsRtree), graph.segments.size(),
@@ -341,13 +345,8 @@ std::optional<schema::Envelope> write_crossings(sqlite::Database& db,
   }
   bulk_load_rtree(db.handle(), std::string(schema::kCrossingsRtree), entries);
   if (entries.empty()) return std::nullopt;
-  schema::Envelope extent = entries.front().box;
-  for (const RtreeEntry& e : entries) {
-    extent.min_x = std::min(extent.min_x, e.box.min_x);
-    extent.max_x = std::max(extent.max_x, e.box.max_x);
-    extent.min_y = std::min(extent.min_y, e.box.min_y);
-    extent.max_y = std::max(extent.max_y, e.box.max_y);
-  }
+  schema::Envelope extent = kEmptyEnvelope;
+  for (const RtreeEntry& e : entries) grow(extent, e.box);
   return extent;
 }
 
