@@ -6,7 +6,6 @@
 #include <cstring>
 #include <initializer_list>
 
-#include "roadcross/preprocess/gpkg_writer.hpp"
 
 namespace roadcross::preprocess {
 namespace {

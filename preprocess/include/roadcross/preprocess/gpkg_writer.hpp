@@ -31,10 +31,6 @@ struct DatabaseContents {
   std::string last_change = "1970-01-01T00:00:00.000Z";
 };
 
-/// Suffix of the side database the writer fills on its second thread (`<output>-rows`),
-/// removed when its rows are copied; AtomicOutput and the interrupt handler remove it too.
-inline constexpr const char* kSideRowsSuffix = "-rows";
-
 /// A temporary output file that is removed unless committed.
 class AtomicOutput {
  public:

@@ -5,13 +5,18 @@
 
 namespace roadcross::preprocess {
 
+/// Suffix of the side database the GeoPackage writer fills on its second thread
+/// (`<temporary output>-rows`), removed when its rows are copied in; AtomicOutput and the
+/// handlers remove it too.
+inline constexpr const char* kSideRowsSuffix = "-rows";
+
 /// Installs the handlers. Call once from main() of a tool that writes via AtomicOutput.
 void install_interrupt_cleanup() noexcept;
 
 /// The temporary file the handlers remove, with its SQLite "-journal" and the writer's "-rows"
-/// side database (nullptr for none). Used
-/// by AtomicOutput, which registers a name before it creates the file and removes the file
-/// before it unregisters the name: a signal at any moment finds no unknown file.
+/// side database (nullptr for none). Used by AtomicOutput, which registers a name before it
+/// creates the file and removes the file before it unregisters the name: a signal at any moment
+/// finds no unknown file.
 void set_interrupt_cleanup_path(const char* path) noexcept;
 
 }  // namespace roadcross::preprocess
