@@ -6,7 +6,6 @@
 #include <cstring>
 #include <initializer_list>
 
-
 namespace roadcross::preprocess {
 namespace {
 
