@@ -230,7 +230,8 @@ void bind_values(py::module_& m) {
 
   py::class_<MapInfo> info(m, "MapInfo", "What Map.info says about the open map.");
   info.def_readonly("path", &MapInfo::path, "the file as opened")
-      .def_readonly("schema_version", &MapInfo::schema_version)
+      .def_readonly("schema_version", &MapInfo::schema_version,
+                    "the map file's schema version (an integer)")
       .def_readonly("tool_version", &MapInfo::tool_version, "roadcross-build version that wrote it")
       .def_property_readonly(
           "utm_zone", [](const MapInfo& i) { return i.zone.zone; }, "UTM zone number, 1..60")
@@ -238,7 +239,7 @@ void bind_values(py::module_& m) {
           "utm_northern", [](const MapInfo& i) { return i.zone.northern; },
           "True for the northern hemisphere")
       .def_readonly("epsg", &MapInfo::epsg, "EPSG code of the map's CRS (326zz or 327zz)")
-      .def_readonly("segment_count", &MapInfo::segment_count)
+      .def_readonly("segment_count", &MapInfo::segment_count, "number of road segments in the map")
       .def_property_readonly(
           "extent_utm_m",
           [](const MapInfo& i) {
@@ -257,8 +258,10 @@ void bind_values(py::module_& m) {
   add_repr(info, "MapInfo", {"path", "schema_version", "utm_zone", "segment_count"});
 
   py::class_<NearestRoad> road(m, "NearestRoad", "The road centreline nearest to a position.");
-  road.def_readonly("segment_id", &NearestRoad::segment_id)
-      .def_readonly("osm_way_id", &NearestRoad::osm_way_id)
+  road.def_readonly("segment_id", &NearestRoad::segment_id,
+                    "id of the road segment (Map.assess_segment takes it)")
+      .def_readonly("osm_way_id", &NearestRoad::osm_way_id,
+                    "id of the OSM way the segment comes from")
       .def_readonly("highway", &NearestRoad::highway, "OSM highway=* value")
       .def_readonly("name", &NearestRoad::name, "the way's name; '' when it has none")
       .def_readonly("query", &NearestRoad::query, "the query position in the map's UTM zone")
@@ -307,9 +310,12 @@ void bind_values(py::module_& m) {
       .def_readonly("context_score", &Assessment::context_score,
                     "bonus/penalty from the surroundings (designated crossings, ...), or None")
       .def_readonly("rank", &Assessment::rank, "road class rank, 1..14, or None")
-      .def_readonly("class_cost", &Assessment::class_cost)
-      .def_readonly("curvature_level", &Assessment::curvature_level)
-      .def_readonly("curvature_cost", &Assessment::curvature_cost)
+      .def_readonly("class_cost", &Assessment::class_cost,
+                    "road class cost, 0..5 (primary 5 .. unclassified 1), or None")
+      .def_readonly("curvature_level", &Assessment::curvature_level,
+                    "0..5 (5 = at a junction), or None")
+      .def_readonly("curvature_cost", &Assessment::curvature_cost,
+                    "0..14, windowed over +-100 m of road, or None")
       .def_readonly("elevation_cost", &Assessment::elevation_cost, "0..9, or None")
       .def_readonly("junction_distance_m", &Assessment::junction_distance_m,
                     "distance along the road to the nearest junction, metres, or None")
@@ -318,7 +324,7 @@ void bind_values(py::module_& m) {
                     "distance to the nearest designated crossing, metres, or None")
       .def_readonly("maxspeed_kmh", &Assessment::maxspeed_kmh, "km/h, or None")
       .def_readonly("width_m", &Assessment::width_m, "carriageway width, metres, or None")
-      .def_readonly("lanes", &Assessment::lanes)
+      .def_readonly("lanes", &Assessment::lanes, "number of lanes, or None")
       .def_readonly("landform", &Assessment::landform, "terrain class name, or None")
       .def_readonly("sight_forward_m", &Assessment::sight_forward_m,
                     "sight distance along the way's direction, metres, or None")
@@ -326,7 +332,8 @@ void bind_values(py::module_& m) {
       .def_readonly("sight_min_m", &Assessment::sight_min_m, "metres, or None")
       .def_readonly("required_sight_m", &Assessment::required_sight_m,
                     "sight distance a crossing needs here, metres, or None")
-      .def_readonly("tunnel", &Assessment::tunnel)
+      .def_readonly("tunnel", &Assessment::tunnel,
+                    "True in a tunnel, building passage or covered=yes")
       .def_readonly("override_note", &Assessment::override_note,
                     "the operator's note when an override applies, else ''")
       .def_readonly("reasons", &Assessment::reasons,
@@ -335,10 +342,16 @@ void bind_values(py::module_& m) {
       .def_property_readonly(
           "distance_m", [](const Assessment& a) { return a.road.distance_m; },
           "distance to the road centreline, metres")
-      .def_property_readonly("segment_id", [](const Assessment& a) { return a.road.segment_id; })
-      .def_property_readonly("osm_way_id", [](const Assessment& a) { return a.road.osm_way_id; })
-      .def_property_readonly("highway", [](const Assessment& a) { return a.road.highway; })
-      .def_property_readonly("name", [](const Assessment& a) { return a.road.name; });
+      .def_property_readonly(
+          "segment_id", [](const Assessment& a) { return a.road.segment_id; }, "road.segment_id")
+      .def_property_readonly(
+          "osm_way_id", [](const Assessment& a) { return a.road.osm_way_id; }, "road.osm_way_id")
+      .def_property_readonly(
+          "highway", [](const Assessment& a) { return a.road.highway; },
+          "road.highway: OSM highway=* value")
+      .def_property_readonly(
+          "name", [](const Assessment& a) { return a.road.name; },
+          "road.name: '' when the way has none");
   add_repr(assessment, "Assessment",
            {"valid", "suitable", "score", "context_score", "distance_m", "reasons"});
 
@@ -347,14 +360,16 @@ void bind_values(py::module_& m) {
                                   "on the robot's side.");
   candidate.def_readonly("point", &Candidate::point, "where to stand, UTM")
       .def_readonly("walking_distance_m", &Candidate::walking_distance_m, "metres")
-      .def_readonly("segment_id", &Candidate::segment_id)
-      .def_readonly("suitable", &Candidate::suitable)
+      .def_readonly("segment_id", &Candidate::segment_id, "id of the road segment at that place")
+      .def_readonly("suitable", &Candidate::suitable,
+                    "suitable by the same rules as Assessment.suitable")
       .def_readonly("score", &Candidate::score, "score + context_score")
       .def_readonly("designated_crossing", &Candidate::designated_crossing,
                     "a designated crossing within 5 m")
       .def_readonly("crossing_heading_rad", &Candidate::crossing_heading_rad,
                     "ENU grid yaw across the road from that side, radians")
-      .def_readonly("reasons", &Candidate::reasons);
+      .def_readonly("reasons", &Candidate::reasons,
+                    "reason codes at that place, as in Assessment.reasons");
   add_repr(candidate, "Candidate",
            {"point", "walking_distance_m", "suitable", "score", "designated_crossing"});
 
@@ -386,8 +401,9 @@ void bind_values(py::module_& m) {
                  return CrossingPlan{start, target, heading_rad, road_width_m};
                }),
            py::kw_only(), "start"_a, "target"_a, "heading_rad"_a, "road_width_m"_a = 0.0)
-      .def_readonly("start", &CrossingPlan::start)
-      .def_readonly("target", &CrossingPlan::target)
+      .def_readonly("start", &CrossingPlan::start, "where the crossing starts, UTM metres")
+      .def_readonly("target", &CrossingPlan::target,
+                    "where it ends beyond the far kerb, UTM metres")
       .def_readonly("heading_rad", &CrossingPlan::heading_rad,
                     "ENU grid yaw from start to target, radians")
       .def_readonly("road_width_m", &CrossingPlan::road_width_m, "metres");
@@ -486,11 +502,13 @@ void bind_values(py::module_& m) {
           "'utm' or 'robot_enu'")
       .def_readonly("x_m", &TrackedVehicle::x_m, "easting (utm) or east offset (robot_enu), m")
       .def_readonly("y_m", &TrackedVehicle::y_m, "northing (utm) or north offset (robot_enu), m")
-      .def_readonly("vx_mps", &TrackedVehicle::vx_mps)
-      .def_readonly("vy_mps", &TrackedVehicle::vy_mps)
-      .def_readonly("length_m", &TrackedVehicle::length_m)
-      .def_readonly("speed_uncertainty_mps", &TrackedVehicle::speed_uncertainty_mps)
-      .def_readonly("time_s", &TrackedVehicle::time_s);
+      .def_readonly("vx_mps", &TrackedVehicle::vx_mps, "velocity east (frame as x_m), m/s")
+      .def_readonly("vy_mps", &TrackedVehicle::vy_mps, "velocity north (frame as y_m), m/s")
+      .def_readonly("length_m", &TrackedVehicle::length_m, "vehicle length, metres, > 0")
+      .def_readonly("speed_uncertainty_mps", &TrackedVehicle::speed_uncertainty_mps,
+                    "+- m/s, or None: GapOptions' fraction of the speed")
+      .def_readonly("time_s", &TrackedVehicle::time_s,
+                    "when it was observed, seconds on the clock of now_s");
   add_repr(vehicle, "Vehicle", {"frame", "x_m", "y_m", "vx_mps", "vy_mps", "time_s"});
 
   py::class_<GapDecision> decision(m, "GapDecision", "GO or WAIT, and why.");
@@ -515,9 +533,12 @@ void bind_values(py::module_& m) {
       .def_readonly("visible_road_m", &GapDecision::visible_road_m,
                     "road seen each way: sensor range cut by the sight distances, metres")
       .def_readonly("critical_gap_s", &GapDecision::critical_gap_s, "HCM t_c, seconds (HCM only)")
-      .def_readonly("vehicles_counted", &GapDecision::vehicles_counted)
-      .def_readonly("stale_tracks", &GapDecision::stale_tracks)
-      .def_readonly("beyond_sensor_range", &GapDecision::beyond_sensor_range);
+      .def_readonly("vehicles_counted", &GapDecision::vehicles_counted,
+                    "vehicles that will still reach the crossing, count")
+      .def_readonly("stale_tracks", &GapDecision::stale_tracks,
+                    "tracks older than max_track_age_s, count")
+      .def_readonly("beyond_sensor_range", &GapDecision::beyond_sensor_range,
+                    "tracks farther than sensor_range_m (still counted), count");
   add_repr(decision, "GapDecision",
            {"verdict", "reason", "limiting_vehicle", "margin_s", "earliest_start_s"});
 }
@@ -537,7 +558,8 @@ void bind_map(py::module_& m) {
           // A copy: a reference into the Map would dangle after close().
           [](PyMap& self) { return MapInfo(self.get().info()); },
           "MapInfo: UTM zone, extent, segment count, metadata")
-      .def_property_readonly("closed", &PyMap::closed)
+      .def_property_readonly("closed", &PyMap::closed,
+                             "True after close() or the end of the with block")
       .def("close", &PyMap::close, "Close the map now; later queries raise ValueError.")
       .def("__enter__", [](py::object self) { return self; })
       .def("__exit__",
