@@ -525,16 +525,25 @@ class DocExamples(unittest.TestCase):
 
 
 class Installed(unittest.TestCase):
-    """cmake --install puts the module under the prefix, importable with PYTHONPATH."""
+    """cmake --install puts the module and its stub under the prefix, importable with
+    PYTHONPATH."""
 
     def test_install_and_import(self):
         with tempfile.TemporaryDirectory() as prefix:
             subprocess.run([os.environ["CMAKE_COMMAND"], "--install",
                             os.environ["ROADCROSS_BINARY_DIR"], "--prefix", prefix,
                             "--component", "python"], check=True, capture_output=True)
-            found = [os.path.join(root, f) for root, _, files in os.walk(prefix) for f in files]
-            self.assertEqual(len(found), 1, found)
+            found = sorted(os.path.join(root, f) for root, _, files in os.walk(prefix)
+                           for f in files)
+            # The module and its type stub (python/roadcross.pyi), side by side.
+            self.assertEqual(len(found), 2, found)
             site = os.path.dirname(found[0])
+            self.assertEqual([os.path.dirname(f) for f in found], [site, site])
+            self.assertRegex(os.path.basename(found[0]), r"^roadcross\..+\.so$")
+            self.assertEqual(os.path.basename(found[1]), "roadcross.pyi")
+            source = os.path.join(os.path.dirname(__file__), "..", "..", "python")
+            with open(found[1]) as installed, open(os.path.join(source, "roadcross.pyi")) as f:
+                self.assertEqual(installed.read(), f.read())
             self.assertRegex(site, r"/lib/python3\.\d+/(dist|site)-packages$")
             probe = ("import roadcross, sys; print(roadcross.__file__); "
                      "m = roadcross.Map(sys.argv[1]); a = m.assess(lat=50.0001, lon=14.4); "
