@@ -18,6 +18,8 @@ packages=(
   libcairo2-dev fonts-dejavu-core
   # checking tools used by tests and benchmarks
   osmium-tool gdal-bin sqlite3 time bc gnuplot-nox
+  # type-checks the Python examples of docs/embedding.md against python/roadcross.pyi
+  python3-mypy
   # the viewer's test loads the page in headless Chromium
   chromium
   # ROS1 node (ros/): roscpp, the message packages it uses (headers and .msg definitions),

@@ -15,6 +15,9 @@ __doc__ ends with its return type. The checks, each in both directions:
   - every name an annotation uses is imported or defined in the stub.
 A second test mutates the stub (a renamed property, a dropped `*`, ...) and requires each
 mutation to be reported, so that the first test cannot pass by checking nothing.
+Then mypy, an independent reader, when installed (python3-mypy, scripts/setup.sh): its stubtest
+compares the stub with the imported module, and mypy type-checks the Python examples of
+docs/embedding.md with the stub (no error) and a few misuses (exactly their errors).
 
 Environment (tests/CMakeLists.txt): PYTHONPATH (the built module, with the stub copied beside
 it), ROADCROSS_STUB (python/roadcross.pyi in the source tree).
@@ -22,8 +25,12 @@ it), ROADCROSS_STUB (python/roadcross.pyi in the source tree).
 
 import ast
 import builtins
+import importlib.util
 import os
 import re
+import subprocess
+import sys
+import tempfile
 import unittest
 
 import roadcross
@@ -423,6 +430,82 @@ class CheckerCatchesMistakes(unittest.TestCase):
                 self.assertEqual(source.count(old), 1, f"mutation anchor {old!r}")
                 problems = "\n".join(check_stub(source.replace(old, new)))
                 self.assertIn(word, problems)
+
+
+@unittest.skipUnless(importlib.util.find_spec("mypy"),
+                     "needs mypy: scripts/setup.sh installs python3-mypy")
+class Mypy(unittest.TestCase):
+
+    def mypy(self, module, *args):
+        """(return code, output) of `python -m <module> ...` reading the stub (MYPYPATH), with
+        a configuration that keeps mypy's cache out of the source tree."""
+        with tempfile.TemporaryDirectory() as work:
+            config = os.path.join(work, "mypy.ini")
+            with open(config, "w") as f:
+                f.write(f"[mypy]\ncache_dir = {work}/cache\n")
+            env = dict(os.environ, MYPYPATH=os.path.dirname(os.path.abspath(STUB)))
+            config_option = "--mypy-config-file" if module == "mypy.stubtest" else "--config-file"
+            out = subprocess.run([sys.executable, "-m", module, *args, config_option, config],
+                                 env=env, capture_output=True, text=True)
+        return out.returncode, out.stdout + out.stderr
+
+    def test_stubtest(self):
+        # What a stub cannot say, allowed by name: a pybind11 class's metaclass
+        # (pybind11_builtins.pybind11_type), and the placeholder __init__(*args, **kwargs) that
+        # raises TypeError in a class without py::init (test_classes_without_constructor).
+        allow = []
+        for name in dir(roadcross):
+            cls = getattr(roadcross, name)
+            if isinstance(cls, PYBIND_TYPE):
+                allow.append(f"roadcross.{name}")
+                if isinstance(vars(cls).get("__init__"), NO_CONSTRUCTOR):
+                    allow.append(f"roadcross.{name}.__init__")
+        with tempfile.TemporaryDirectory() as work:
+            allowlist = os.path.join(work, "allowlist.txt")
+            with open(allowlist, "w") as f:
+                f.write("\n".join(allow) + "\n")
+            code, out = self.mypy("mypy.stubtest", "roadcross", "--allowlist", allowlist)
+        self.assertEqual(code, 0, out)
+
+    MISUSE = """import roadcross
+m = roadcross.Map("map.gpkg")
+m.assess(50.0, 14.4)  # E: coordinates are keyword-only
+a = m.assess(lat=50.0, lon=14.4)
+score: int = a.score  # E: Optional[int]
+e, n = a.road.closest
+distance: float = e + n + a.distance_m + len(m.better_place(lat=50.0, lon=14.4))
+p = roadcross.PlanePoint(e, n)  # E: keyword-only
+roadcross.gap_decision(m.gap_crossing(easting=e, northing=n), [], now_s="0")  # E: str for float
+with m:
+    name: str = m.info.path
+try:
+    m.nearest(lat=50.0, lon=14.4)
+except roadcross.NoRoadError as error:
+    print(error.code.upper())
+except LookupError as error:
+    print(error.code)  # E: only roadcross.Error has code
+"""
+
+    def test_doc_examples_and_misuse(self):
+        source = os.path.join(os.path.dirname(__file__), "..", "..")
+        with open(os.path.join(source, "docs", "embedding.md")) as f:
+            blocks = re.findall(r"```(\w*)\n(.*?)```", f.read(), re.S)
+        examples = [body for lang, body in blocks if lang == "python"]
+        self.assertGreaterEqual(len(examples), 4)
+        with tempfile.TemporaryDirectory() as work:
+            files = []
+            for i, body in enumerate(examples + [self.MISUSE]):
+                files.append(os.path.join(work, f"example{i}.py"))
+                with open(files[-1], "w") as f:
+                    f.write(body)
+            code, out = self.mypy("mypy", "--check-untyped-defs", "--strict-equality",
+                                  "--no-error-summary", *files)
+        errors = re.findall(r"^(\S+?):(\d+): error:", out, re.M)
+        misuse = os.path.basename(files[-1])
+        expected = [(misuse, i + 1) for i, line in enumerate(self.MISUSE.splitlines())
+                    if "# E:" in line]
+        self.assertEqual(sorted((os.path.basename(f), int(n)) for f, n in errors), expected, out)
+        self.assertEqual(code, 1, out)
 
 
 if __name__ == "__main__":
