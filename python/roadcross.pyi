@@ -496,7 +496,9 @@ class Map:
     Replace a map file by renaming a new file over it, then open a new Map; never rewrite it in
     place while a Map has it open. Usable as a context manager (closes on exit)."""
 
-    def __init__(self, path: Union[str, os.PathLike[str]]) -> None:
+    def __init__(
+        self, path: Union[str, bytes, os.PathLike[str], os.PathLike[bytes]]
+    ) -> None:
         """path: the map file (str or os.PathLike)"""
     @property
     def info(self) -> MapInfo:
@@ -507,7 +509,9 @@ class Map:
     def close(self) -> None:
         """Close the map now; later queries raise ValueError."""
     def __enter__(self) -> Map: ...
-    def __exit__(self, exc_type: object, exc_value: object, traceback: object, /) -> Literal[False]: ...
+    def __exit__(
+        self, exc_type: object, exc_value: object, traceback: object, /
+    ) -> Literal[False]: ...
     def to_utm(
         self,
         *,

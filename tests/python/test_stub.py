@@ -86,7 +86,8 @@ def stub_type(annotation):
         return (ast.unparse(annotation), ())
     if isinstance(annotation, ast.Subscript):
         head = ast.unparse(annotation.value)
-        elts = annotation.slice.elts if isinstance(annotation.slice, ast.Tuple) else [annotation.slice]
+        index = annotation.slice
+        elts = index.elts if isinstance(index, ast.Tuple) else [index]
         if head == "Literal":
             return ("Literal", tuple(ast.literal_eval(e) for e in elts))
         return (head, tuple(stub_type(e) for e in elts))
@@ -110,8 +111,8 @@ def type_matches(stub, pybind, parameter):
         elif head == "Union" and len(args) == 2 and ("None", ()) in args:
             inner = args[0] if args[1] == ("None", ()) else args[1]
         return inner is not None and type_matches(inner, pybind[1][0], parameter)
-    if pybind == ("os.PathLike", ()):  # std::filesystem::path: str or any os.PathLike
-        return head == "Union" and {a[0] for a in args} == {"str", "os.PathLike"}
+    if pybind == ("os.PathLike", ()):  # std::filesystem::path: PyUnicode_FSConverter's types
+        return head == "Union" and {a[0] for a in args} == {"str", "bytes", "os.PathLike"}
     if not pybind[1] and pybind[0] in ("tuple", "dict", "list", "Iterator"):
         return head == pybind[0]  # py::tuple, py::dict, py::iterator: the stub is more exact
     if parameter and pybind[0] == "list" and head == "Sequence":
