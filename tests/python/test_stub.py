@@ -271,9 +271,7 @@ def check_annotation_names(tree):
         elif isinstance(node, ast.AnnAssign):
             annotations.append(node.annotation)
         for annotation in filter(None, annotations):
-            for name in ast.walk(annotation):
-                if isinstance(name, ast.Subscript) and ast.unparse(name.value) == "Literal":
-                    break
+            for name in ast.walk(annotation):  # Literal's values are constants, not names
                 if isinstance(name, ast.Name) and name.id not in known:
                     problems.append(f"line {name.lineno}: {name.id} is not defined in the stub")
     return problems
