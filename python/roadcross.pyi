@@ -182,7 +182,7 @@ class Assessment:
         """bonus/penalty from the surroundings (designated crossings, ...), or None"""
     @property
     def rank(self) -> Optional[int]:
-        """road class rank, 1..14, or None"""
+        """crossing rank, 0..14 (higher is worse), or None"""
     @property
     def class_cost(self) -> Optional[int]:
         """road class cost, 0..5 (primary 5 .. unclassified 1), or None"""

@@ -309,7 +309,7 @@ void bind_values(py::module_& m) {
       .def_readonly("score", &Assessment::score, "the segment's crossing score, or None")
       .def_readonly("context_score", &Assessment::context_score,
                     "bonus/penalty from the surroundings (designated crossings, ...), or None")
-      .def_readonly("rank", &Assessment::rank, "road class rank, 1..14, or None")
+      .def_readonly("rank", &Assessment::rank, "crossing rank, 0..14 (higher is worse), or None")
       .def_readonly("class_cost", &Assessment::class_cost,
                     "road class cost, 0..5 (primary 5 .. unclassified 1), or None")
       .def_readonly("curvature_level", &Assessment::curvature_level,
