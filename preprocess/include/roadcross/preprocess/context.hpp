@@ -75,7 +75,20 @@ struct ContextReport {
   std::vector<std::string> summary_lines() const;
 };
 
-/// Runs the stage on the graph. `overrides` may be empty.
+/// The part of the stage that needs the road network: the country, every segment's speed
+/// limit, lanes, width, crossing distance and context score, and the crossings. It reads only
+/// what segmenting set, so the build runs it right after segmenting and frees the network
+/// before the cost stages (a third of the memory at that point).
+ContextReport compute_way_context(RoadGraph& graph, const RoadNetwork& network,
+                                  const ContextParameters& parameters,
+                                  std::string_view country_option);
+
+/// The rest, after the other cost stages: the overrides (which may change any cost, so they
+/// come after all of them) and then BUSY_ROAD. `overrides` may be empty.
+void finish_context(RoadGraph& graph, const ContextParameters& parameters,
+                    const std::vector<Override>& overrides, ContextReport& report);
+
+/// Both parts at once. `overrides` may be empty.
 ContextReport compute_context(RoadGraph& graph, const RoadNetwork& network,
                               const ContextParameters& parameters, std::string_view country_option,
                               const std::vector<Override>& overrides);
