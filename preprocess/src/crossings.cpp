@@ -73,7 +73,7 @@ std::unordered_map<std::int64_t, std::vector<GraphPlace>> place_nodes(
 std::int64_t segment_at(const RoadGraph& graph, const RoadPiece& piece, double offset_m) {
   std::size_t index = piece.first_segment;
   for (std::size_t k = 1; k < piece.segment_count; ++k) {
-    if (graph.segments[piece.first_segment + k].offset_in_piece_m <= offset_m) {
+    if (graph.offset_in_piece_m(graph.segments[piece.first_segment + k]) <= offset_m) {
       index = piece.first_segment + k;
     }
   }
@@ -363,7 +363,7 @@ void assign_crossing_distances(RoadGraph& graph, const std::vector<Crossing>& cr
     for (std::size_t k = 0; k < piece.segment_count; ++k) {
       Segment& s = graph.segments[piece.first_segment + k];
       // From the midpoint, as junction_distance_m: where a robot crossing "here" stands.
-      const double mid = s.offset_in_piece_m + 0.5 * s.length_m;
+      const double mid = graph.offset_in_piece_m(s) + 0.5 * s.length_m;
       double d =
           std::min(mid + at(piece.from_node_id), piece.length_m - mid + at(piece.to_node_id));
       if (own != on_piece.end()) {

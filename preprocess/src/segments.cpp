@@ -12,7 +12,7 @@
 namespace roadcross::preprocess {
 
 // A regression guard: the segment table is most of the build's peak memory.
-static_assert(sizeof(Segment) <= 168, "Segment grew: every byte costs ~10 MB a country");
+static_assert(sizeof(Segment) <= 160, "Segment grew: every byte costs ~10 MB a country");
 
 double polyline_length_m(std::span<const PlanePoint> points) noexcept {
   double length = 0.0;
@@ -153,7 +153,6 @@ void cut_piece(RoadGraph& graph, std::size_t piece_index, const RoadWay& way, do
     segment.id = static_cast<std::int64_t>(graph.segments.size()) + 1;
     // A 32-bit index (checked in build_road_graph).
     segment.piece_index = static_cast<std::uint32_t>(piece_index);
-    segment.offset_in_piece_m = start_m;
     segment.osm_way_id = way.osm_id;
     segment.highway = highway;
     segment.name = name;
