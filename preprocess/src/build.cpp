@@ -191,7 +191,7 @@ BuildSummary run_build(const BuildOptions& options) {
 
   // Cost stages, in this order; each fills its Segment fields and appends its reason codes:
   // (context's tag part above, no reasons), geometry (class, junctions, curvature), terrain,
-  // context's overrides and BUSY_ROAD, then rank/score.
+  // context's scores, overrides and BUSY_ROAD, then rank/score.
   progress.start_stage("geometry cost");
   compute_geometry_costs(graph, options.parameters.geometry);
   progress.finish_stage("class, junctions, curvature");
@@ -204,8 +204,10 @@ BuildSummary run_build(const BuildOptions& options) {
   } else {
     for (Segment& s : graph.segments) s.reasons.add("NO_ELEVATION");
   }
-  // The overrides change any cost, so they (and BUSY_ROAD after them) come after the others.
-  progress.start_stage("overrides and BUSY_ROAD");
+  // The crossing distances (a search over the whole graph, so run once the network is freed)
+  // pick the context scores; the overrides change any cost, so they (and BUSY_ROAD after them)
+  // come after the other stages.
+  progress.start_stage("context: crossing distances, overrides");
   finish_context(graph, options.parameters.context, overrides, context);
   progress.finish_stage(std::to_string(context.busy_segments) + " BUSY_ROAD segments");
   std::vector<std::string> sight_notes;

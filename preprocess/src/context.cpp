@@ -241,24 +241,37 @@ ContextReport compute_way_context(RoadGraph& graph, const RoadNetwork& network,
   }
 
   report.crossings = find_crossings(network, graph);
-  assign_crossing_distances(graph, report.crossings);
+  // The score depends on the segment only through its way (the highway is the way's) and
+  // whether a crossing is near: both scores are kept per way, and finish_context picks one
+  // once the crossing distances are known (their search runs after the network is freed).
+  report.way_scores.resize(network.ways.size());
   for (Segment& s : graph.segments) {
-    const SegmentContext& w = ways[graph.pieces[s.piece_index].way_index];
+    const std::size_t way_index = graph.pieces[s.piece_index].way_index;
+    const SegmentContext& w = ways[way_index];
     s.maxspeed_kmh = w.maxspeed_kmh;
     s.lanes = w.lanes;
     s.width_m = w.width_m;
     s.context_defaulted = w.defaulted;
-    // The epsilon keeps a crossing exactly at the limit (a node between two 10 m segments is
-    // 5 m from both midpoints) from missing its bonus to rounding.
-    const bool near =
-        s.crossing_distance_m && *s.crossing_distance_m <= p.crossing_distance_max_m + 1e-6;
-    s.context_score = context_score(w.maxspeed_kmh, w.lanes, w.width_m, s.highway, near, p);
+    report.way_scores[way_index] = {
+        context_score(w.maxspeed_kmh, w.lanes, w.width_m, s.highway, false, p),
+        context_score(w.maxspeed_kmh, w.lanes, w.width_m, s.highway, true, p)};
   }
   return report;
 }
 
 void finish_context(RoadGraph& graph, const ContextParameters& p,
                     const std::vector<Override>& overrides, ContextReport& report) {
+  assign_crossing_distances(graph, report.crossings);
+  for (Segment& s : graph.segments) {
+    const ContextReport::WayScores& scores =
+        report.way_scores[graph.pieces[s.piece_index].way_index];
+    // The epsilon keeps a crossing exactly at the limit (a node between two 10 m segments is
+    // 5 m from both midpoints) from missing its bonus to rounding.
+    const bool near =
+        s.crossing_distance_m && *s.crossing_distance_m <= p.crossing_distance_max_m + 1e-6;
+    s.context_score = near ? scores.near_crossing : scores.away;
+  }
+  std::vector<ContextReport::WayScores>().swap(report.way_scores);
   const std::vector<std::uint64_t> touched = apply_overrides(graph, overrides);
   for (std::size_t i = 0; i < touched.size(); ++i) {
     report.override_segments += touched[i];
