@@ -263,7 +263,7 @@ void bulk_load_rtree(sqlite3* db, const std::string& rtree_name, std::size_t cou
   std::int64_t next_node = 2;
   std::vector<std::uint32_t> leaf_of_entry(count);
   Level leaves;
-  {
+  {  // the order along the curve is freed before the _rowid rows are written
     const std::vector<std::uint64_t> order = entries_along_hilbert_curve(count, entry_at);
     leaves = write_leaves(out, order, entry_at, next_node, leaf_of_entry);
   }
