@@ -168,16 +168,30 @@ BuildSummary run_build(const BuildOptions& options) {
                         std::to_string(zone.zone) + (zone.northern ? "N" : "S"));
   const std::string last_change = iso8601_utc(network.newest_timestamp_s);
 
+  // The context stage's tag and crossing part reads only what segmenting set, so it runs first:
+  // the ways, their tags and the node locations are then freed before the cost stages and the
+  // writing add to the peak memory.
+  progress.start_stage("context");
+  ContextReport context =
+      compute_way_context(graph, network, options.parameters.context, options.country);
+  progress.finish_stage(std::to_string(context.crossings.size()) + " crossings");
+  const std::size_t road_ways = network.ways.size();
+  network = RoadNetwork{};
+  return_freed_memory();
+
   // The segments' spatial index needs only their lines, which are final from here on: it is
   // written on the second core while the cost stages (single-threaded, most of them) run.
-  // Declared after `graph` and the writer, so that a stage's exception waits for it first.
+  // Started only now, with the network freed: its working set and SQLite's page cache would
+  // otherwise add to the network's memory. Declared after `graph` and the writer, so that a
+  // stage's exception waits for it first.
   std::optional<GeoPackageWriter> writer;
   naming_the_output(options, [&] { writer.emplace(output.temp_path(), zone, last_change); });
   std::future<void> segment_index =
       std::async(std::launch::async, [&] { writer->write_segment_index(graph); });
 
   // Cost stages, in this order; each fills its Segment fields and appends its reason codes:
-  // geometry (class, junctions, curvature), terrain, context, then rank/score.
+  // (context's tag part above, no reasons), geometry (class, junctions, curvature), terrain,
+  // context's scores, overrides and BUSY_ROAD, then rank/score.
   progress.start_stage("geometry cost");
   compute_geometry_costs(graph, options.parameters.geometry);
   progress.finish_stage("class, junctions, curvature");
@@ -190,15 +204,12 @@ BuildSummary run_build(const BuildOptions& options) {
   } else {
     for (Segment& s : graph.segments) s.reasons.add("NO_ELEVATION");
   }
-  progress.start_stage("context");
-  const ContextReport context =
-      compute_context(graph, network, options.parameters.context, options.country, overrides);
-  progress.finish_stage(std::to_string(context.crossings.size()) + " crossings");
-  // The graph and the crossings hold what later stages need: the ways, their tags and the node
-  // locations are freed before the sight stage's obstacles and the writing add to the peak.
-  const std::size_t road_ways = network.ways.size();
-  network = RoadNetwork{};
-  return_freed_memory();
+  // The crossing distances (a search over the whole graph, so run once the network is freed)
+  // pick the context scores; the overrides change any cost, so they (and BUSY_ROAD after them)
+  // come after the other stages.
+  progress.start_stage("context: crossing distances, overrides");
+  finish_context(graph, options.parameters.context, overrides, context);
+  progress.finish_stage(std::to_string(context.busy_segments) + " BUSY_ROAD segments");
   std::vector<std::string> sight_notes;
   if (with_sight) {
     sight_notes = run_sight_stage(options, graph, has_elevation ? &terrain_grid : nullptr,

@@ -162,6 +162,15 @@ std::string country_from_location(const RoadNetwork& network) {
   return {};
 }
 
+/// What a way's WayContext gives its segments.
+struct SegmentContext {
+  double maxspeed_kmh = 0.0;
+  double width_m = 0.0;
+  int lanes = 0;
+  bool known = false;                      ///< computed (the way has segments)
+  const std::string* defaulted = nullptr;  ///< the defaulted tags, joined and interned, or none
+};
+
 std::string join(const std::vector<std::string>& items) {
   std::string out;
   for (const std::string& item : items) out += (out.empty() ? "" : ",") + item;
@@ -208,42 +217,61 @@ std::vector<std::string> ContextReport::summary_lines() const {
   return lines;
 }
 
-ContextReport compute_context(RoadGraph& graph, const RoadNetwork& network,
-                              const ContextParameters& p, std::string_view country_option,
-                              const std::vector<Override>& overrides) {
+ContextReport compute_way_context(RoadGraph& graph, const RoadNetwork& network,
+                                  const ContextParameters& p, std::string_view country_option) {
   ContextReport report;
   report.country = choose_country(network, country_option);
   const ContextDefaults defaults{report.country.country, p.assume_urban != 0.0, p.lane_width_m,
                                  p.major_lane_width_m};
   // Per way, from the oneway flag segmentation already derived (ways without segments are
-  // not counted: nothing of them reaches the DB).
-  std::vector<std::optional<WayContext>> ways(network.ways.size());
+  // not counted: nothing of them reaches the DB). Only what the segments take is kept (the
+  // tag lists of every way would cost ~200 bytes a way beside the road network).
+  std::vector<SegmentContext> ways(network.ways.size());
   for (const Segment& s : graph.segments) {
     const std::size_t way_index = graph.pieces[s.piece_index].way_index;
-    std::optional<WayContext>& w = ways[way_index];
-    if (w) continue;
+    SegmentContext& w = ways[way_index];
+    if (w.known) continue;
     const RoadWay& way = network.ways[way_index];
-    w = way_context(way.tags, way.highway, s.oneway, defaults);
-    for (const std::string& tag : w->defaulted) ++report.defaulted_ways[tag];
-    for (const std::string& tag : w->unparsed) ++report.unparsed_ways[tag];
+    const WayContext context = way_context(way.tags, way.highway, s.oneway, defaults);
+    for (const std::string& tag : context.defaulted) ++report.defaulted_ways[tag];
+    for (const std::string& tag : context.unparsed) ++report.unparsed_ways[tag];
     ++report.road_ways;
+    w = {context.maxspeed_kmh, context.width_m, context.lanes, true,
+         context.defaulted.empty() ? nullptr : graph.text.intern(join(context.defaulted))};
   }
 
   report.crossings = find_crossings(network, graph);
-  assign_crossing_distances(graph, report.crossings);
+  // The score depends on the segment only through its way (the highway is the way's) and
+  // whether a crossing is near: both scores are kept per way, and finish_context picks one
+  // once the crossing distances are known (their search runs after the network is freed).
+  report.way_scores.resize(network.ways.size());
   for (Segment& s : graph.segments) {
-    const WayContext& w = *ways[graph.pieces[s.piece_index].way_index];
+    const std::size_t way_index = graph.pieces[s.piece_index].way_index;
+    const SegmentContext& w = ways[way_index];
     s.maxspeed_kmh = w.maxspeed_kmh;
     s.lanes = w.lanes;
     s.width_m = w.width_m;
-    if (!w.defaulted.empty()) s.context_defaulted = graph.text.intern(join(w.defaulted));
+    s.context_defaulted = w.defaulted;
+    report.way_scores[way_index] = {
+        context_score(w.maxspeed_kmh, w.lanes, w.width_m, s.highway, false, p),
+        context_score(w.maxspeed_kmh, w.lanes, w.width_m, s.highway, true, p)};
+  }
+  return report;
+}
+
+void finish_context(RoadGraph& graph, const ContextParameters& p,
+                    const std::vector<Override>& overrides, ContextReport& report) {
+  assign_crossing_distances(graph, report.crossings);
+  for (Segment& s : graph.segments) {
+    const ContextReport::WayScores& scores =
+        report.way_scores[graph.pieces[s.piece_index].way_index];
     // The epsilon keeps a crossing exactly at the limit (a node between two 10 m segments is
     // 5 m from both midpoints) from missing its bonus to rounding.
     const bool near =
         s.crossing_distance_m && *s.crossing_distance_m <= p.crossing_distance_max_m + 1e-6;
-    s.context_score = context_score(w.maxspeed_kmh, w.lanes, w.width_m, s.highway, near, p);
+    s.context_score = near ? scores.near_crossing : scores.away;
   }
-
+  std::vector<ContextReport::WayScores>().swap(report.way_scores);
   const std::vector<std::uint64_t> touched = apply_overrides(graph, overrides);
   for (std::size_t i = 0; i < touched.size(); ++i) {
     report.override_segments += touched[i];
@@ -255,6 +283,13 @@ ContextReport compute_context(RoadGraph& graph, const RoadNetwork& network,
       ++report.busy_segments;
     }
   }
+}
+
+ContextReport compute_context(RoadGraph& graph, const RoadNetwork& network,
+                              const ContextParameters& p, std::string_view country_option,
+                              const std::vector<Override>& overrides) {
+  ContextReport report = compute_way_context(graph, network, p, country_option);
+  finish_context(graph, p, overrides, report);
   return report;
 }
 

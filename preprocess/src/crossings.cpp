@@ -73,7 +73,7 @@ std::unordered_map<std::int64_t, std::vector<GraphPlace>> place_nodes(
 std::int64_t segment_at(const RoadGraph& graph, const RoadPiece& piece, double offset_m) {
   std::size_t index = piece.first_segment;
   for (std::size_t k = 1; k < piece.segment_count; ++k) {
-    if (graph.segments[piece.first_segment + k].offset_in_piece_m <= offset_m) {
+    if (graph.offset_in_piece_m(graph.segments[piece.first_segment + k]) <= offset_m) {
       index = piece.first_segment + k;
     }
   }
@@ -104,13 +104,25 @@ class EdgeGrid {
     std::size_t edge = 0;  ///< from points[edge] to points[edge + 1]
   };
 
-  explicit EdgeGrid(const RoadGraph& graph) {
+  /// Only the cells in `wanted` (sorted keys of the cells the lines to test pass near, see
+  /// add_cells) are filled: the grid of every road edge would cost ~60 bytes an edge at
+  /// country scale, beside the road network at the build's peak memory.
+  EdgeGrid(const RoadGraph& graph, const std::vector<std::int64_t>& wanted) {
     for (std::size_t p = 0; p < graph.pieces.size(); ++p) {
       const auto& pts = graph.pieces[p].points;
       for (std::size_t e = 0; e + 1 < pts.size(); ++e) {
-        for_cells(pts[e], pts[e + 1], [&](std::int64_t key) { cells_[key].push_back({p, e}); });
+        for_cells(pts[e], pts[e + 1], [&](std::int64_t key) {
+          if (std::binary_search(wanted.begin(), wanted.end(), key)) {
+            cells_[key].push_back({p, e});
+          }
+        });
       }
     }
+  }
+
+  /// Appends the keys of the cells that near(a, b) visits.
+  static void add_cells(PlanePoint a, PlanePoint b, std::vector<std::int64_t>& keys) {
+    for_cells(a, b, [&](std::int64_t key) { keys.push_back(key); });
   }
 
   /// Calls `visit` for every road edge in the cells the line a-b passes near (may repeat).
@@ -175,7 +187,7 @@ class CrossingFinder {
     std::vector<Crossing> out;
     for (const TaggedNode& node : network_.tagged_nodes) add_node(node, out);
     if (!network_.crossing_ways.empty()) {
-      EdgeGrid grid(graph_);
+      EdgeGrid grid(graph_, cells_along_crossing_ways());
       for (const CrossingWay& way : network_.crossing_ways) add_way(way, grid, out);
     }
     return out;
@@ -192,6 +204,22 @@ class CrossingFinder {
     c.kind = *kind;
     out.push_back(std::move(c));
     crossing_nodes_.push_back(node.osm_id);
+  }
+
+  /// Sorted keys of the grid cells that add_intersections() looks in.
+  std::vector<std::int64_t> cells_along_crossing_ways() const {
+    std::vector<std::int64_t> keys;
+    for (const CrossingWay& way : network_.crossing_ways) {
+      std::optional<PlanePoint> previous;
+      for (std::int64_t id : way.node_ids) {
+        const std::optional<PlanePoint> here = locate(id);
+        if (previous && here) EdgeGrid::add_cells(*previous, *here, keys);
+        previous = here;
+      }
+    }
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    return keys;
   }
 
   bool is_crossing_node(std::int64_t id) const {
@@ -296,21 +324,20 @@ std::vector<Crossing> find_crossings(const RoadNetwork& network, const RoadGraph
 }
 
 void assign_crossing_distances(RoadGraph& graph, const std::vector<Crossing>& crossings) {
-  // Multi-source Dijkstra over the pieces, seeded at both ends of each crossing's piece.
-  std::unordered_map<std::int64_t, std::vector<std::pair<std::int64_t, double>>> adjacent;
-  for (const RoadPiece& piece : graph.pieces) {
-    adjacent[piece.from_node_id].emplace_back(piece.to_node_id, piece.length_m);
-    adjacent[piece.to_node_id].emplace_back(piece.from_node_id, piece.length_m);
-  }
-  std::unordered_map<std::int64_t, double> node_distance;
+  // Multi-source Dijkstra over the pieces, seeded at both ends of each crossing's piece. The
+  // nodes by their position in the sorted incidence table (ids ascend with it, so the queue
+  // breaks ties as it would by id), not in hash maps: ~130 bytes a node at country scale.
+  const Incidences incidences(graph);
+  std::vector<double> node_distance(incidences.node_count(),
+                                    std::numeric_limits<double>::infinity());
   std::unordered_map<std::size_t, std::vector<double>> on_piece;  // crossing offsets per piece
-  using Entry = std::pair<double, std::int64_t>;
+  using Entry = std::pair<double, std::size_t>;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
   const auto relax = [&](std::int64_t node, double d) {
-    const auto it = node_distance.find(node);
-    if (it != node_distance.end() && it->second <= d) return;
-    node_distance[node] = d;
-    queue.push({d, node});
+    const std::size_t index = incidences.index_of(node);
+    if (node_distance[index] <= d) return;
+    node_distance[index] = d;
+    queue.push({d, index});
   };
   for (const Crossing& c : crossings) {
     if (!c.kind.designated) continue;
@@ -320,22 +347,23 @@ void assign_crossing_distances(RoadGraph& graph, const std::vector<Crossing>& cr
     relax(piece.to_node_id, piece.length_m - c.offset_in_piece_m);
   }
   while (!queue.empty()) {
-    const auto [d, node] = queue.top();
+    const auto [d, index] = queue.top();
     queue.pop();
-    if (d > node_distance[node]) continue;
-    for (const auto& [next, length] : adjacent[node]) relax(next, d + length);
+    if (d > node_distance[index]) continue;
+    // In piece order, from-end first: the order the neighbours were visited in before.
+    for (const Incidence& end : incidences.at_index(index)) {
+      const RoadPiece& piece = graph.pieces[end.piece];
+      relax(end.at_end ? piece.from_node_id : piece.to_node_id, d + piece.length_m);
+    }
   }
-  const auto at = [&](std::int64_t node) {
-    const auto it = node_distance.find(node);
-    return it == node_distance.end() ? std::numeric_limits<double>::infinity() : it->second;
-  };
+  const auto at = [&](std::int64_t node) { return node_distance[incidences.index_of(node)]; };
   for (std::size_t p = 0; p < graph.pieces.size(); ++p) {
     const RoadPiece& piece = graph.pieces[p];
     const auto own = on_piece.find(p);
     for (std::size_t k = 0; k < piece.segment_count; ++k) {
       Segment& s = graph.segments[piece.first_segment + k];
       // From the midpoint, as junction_distance_m: where a robot crossing "here" stands.
-      const double mid = s.offset_in_piece_m + 0.5 * s.length_m;
+      const double mid = graph.offset_in_piece_m(s) + 0.5 * s.length_m;
       double d =
           std::min(mid + at(piece.from_node_id), piece.length_m - mid + at(piece.to_node_id));
       if (own != on_piece.end()) {

@@ -147,7 +147,7 @@ void assign_junction_distances(RoadGraph& graph, const GeometryParameters& p) {
     for (std::size_t k = 0; k < piece.segment_count; ++k) {
       Segment& s = graph.segments[piece.first_segment + k];
       // Measured from the segment's midpoint: where a robot crossing "at this segment" stands.
-      const double mid = s.offset_in_piece_m + 0.5 * s.length_m;
+      const double mid = graph.offset_in_piece_m(s) + 0.5 * s.length_m;
       const double d = std::min(mid + from_end, piece.length_m - mid + to_end);
       if (std::isfinite(d)) {
         s.junction_distance_m = d;

@@ -111,7 +111,11 @@ class NodeLocationCollector : public osmium::handler::Handler {
  public:
   NodeLocationCollector(RoadNetwork& network, const std::vector<std::int64_t>& wanted_sorted,
                         const std::vector<std::int64_t>& crossing_only_sorted)
-      : network_(network), wanted_(wanted_sorted), crossing_only_(crossing_only_sorted) {}
+      : network_(network), wanted_(wanted_sorted), crossing_only_(crossing_only_sorted) {
+    // At most one location per wanted node (a file with a node twice grows it): grown by
+    // doubling, the table would hold up to twice that until the network is freed.
+    network_.locations.reserve(wanted_.size());
+  }
 
   void node(const osmium::Node& node) {
     ++network_.nodes_read;
@@ -178,6 +182,9 @@ void sort_by_id_unique(std::vector<T>& items) {
   items.erase(std::unique(items.begin(), items.end(),
                           [](const T& a, const T& b) { return a.osm_id == b.osm_id; }),
               items.end());
+  // The tables grew by doubling and are held through segmenting, the build's peak: the spare
+  // capacity (up to half) is given back while the reading's own buffers are larger anyway.
+  items.shrink_to_fit();
 }
 
 }  // namespace

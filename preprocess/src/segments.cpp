@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -11,7 +12,7 @@
 namespace roadcross::preprocess {
 
 // A regression guard: the segment table is most of the build's peak memory.
-static_assert(sizeof(Segment) <= 168, "Segment grew: every byte costs ~10 MB a country");
+static_assert(sizeof(Segment) <= 160, "Segment grew: every byte costs ~10 MB a country");
 
 double polyline_length_m(std::span<const PlanePoint> points) noexcept {
   double length = 0.0;
@@ -152,7 +153,6 @@ void cut_piece(RoadGraph& graph, std::size_t piece_index, const RoadWay& way, do
     segment.id = static_cast<std::int64_t>(graph.segments.size()) + 1;
     // A 32-bit index (checked in build_road_graph).
     segment.piece_index = static_cast<std::uint32_t>(piece_index);
-    segment.offset_in_piece_m = start_m;
     segment.osm_way_id = way.osm_id;
     segment.highway = highway;
     segment.name = name;
@@ -198,14 +198,14 @@ RoadGraph build_road_graph(const RoadNetwork& network, geo::UtmZone zone,
   if (network.ways.size() > std::numeric_limits<std::uint32_t>::max()) {
     throw std::length_error("more than 4 294 967 295 road ways: segment indices are 32-bit");
   }
-  const ProjectedNodes projected(network.locations, zone);
+  auto projected = std::make_unique<const ProjectedNodes>(network.locations, zone);
   // The located runs are recomputed in each of the three passes below rather than kept: a copy
   // of every node id and point of every way would sit beside the segment table at the peak.
 
   // Pass 1: the graph's inner nodes, those used more than once across all runs (sorted ids).
   std::vector<std::int64_t> junctions;
   for (const RoadWay& way : network.ways) {
-    const std::vector<NodeRun> runs = located_runs(way, projected, graph.dropped_node_refs);
+    const std::vector<NodeRun> runs = located_runs(way, *projected, graph.dropped_node_refs);
     if (runs.empty()) ++graph.dropped_ways;
     for (const NodeRun& run : runs) {
       // A closed way's last node is its first: count it once so a ring alone is not a junction.
@@ -232,7 +232,7 @@ RoadGraph build_road_graph(const RoadNetwork& network, geo::UtmZone zone,
   std::uint64_t ignored_refs = 0;
   std::size_t segment_total = 0, point_total = 0;
   for (std::size_t w = 0; w < network.ways.size(); ++w) {
-    for (const NodeRun& run : located_runs(network.ways[w], projected, ignored_refs)) {
+    for (const NodeRun& run : located_runs(network.ways[w], *projected, ignored_refs)) {
       std::size_t start = 0;
       for (std::size_t i = 1; i < run.ids.size(); ++i) {
         const bool end_of_run = (i + 1 == run.ids.size());
@@ -260,6 +260,8 @@ RoadGraph build_road_graph(const RoadNetwork& network, geo::UtmZone zone,
     throw std::length_error("more than 4 294 967 295 road pieces: Segment::piece_index is 32-bit");
   }
   std::vector<std::int64_t>().swap(junctions);
+  // Pass 3 cuts the pieces' own points: the nodes' projection (16 bytes a node) is not needed.
+  projected.reset();
 
   // Pass 3: the segments, in piece order.
   graph.segments.reserve(segment_total);

@@ -55,7 +55,6 @@ struct GraphBuilder {
       rp::Segment seg;
       seg.id = static_cast<std::int64_t>(graph.segments.size()) + 1;
       seg.piece_index = static_cast<std::uint32_t>(graph.pieces.size());
-      seg.offset_in_piece_m = a;
       seg.length_m = b - a;
       seg.highway = graph.text.intern_text(highway);
       seg.from_node_id = node;
@@ -147,8 +146,8 @@ TEST_P(ArcRadius, SegmentsOnTheArcGetItsRadius) {
   for (const rp::Segment& s : b.graph.segments) {
     ASSERT_TRUE(s.radius_m.has_value());
     // The segments at the two dead ends see only half a triangle; the rest must be within 10 %.
-    const double from_start = s.offset_in_piece_m,
-                 to_end = b.graph.pieces[0].length_m - s.offset_in_piece_m - s.length_m;
+    const double from_start = b.graph.offset_in_piece_m(s),
+                 to_end = b.graph.pieces[0].length_m - from_start - s.length_m;
     if (from_start < spacing + p.curvature_baseline_m || to_end < spacing + p.curvature_baseline_m)
       continue;
     EXPECT_NEAR(*s.radius_m, radius, 0.10 * radius) << "segment at " << from_start << " m";
@@ -262,7 +261,7 @@ TEST(Curvature, SplittingARoadIntoTwoWaysChangesNothing) {
     for (const rp::RoadPiece& piece : g.pieces) {
       for (std::size_t k = 0; k < piece.segment_count; ++k) {
         const rp::Segment& s = g.segments[piece.first_segment + k];
-        out.emplace_back(base + s.offset_in_piece_m + s.length_m / 2, *s.radius_m,
+        out.emplace_back(base + g.offset_in_piece_m(s) + s.length_m / 2, *s.radius_m,
                          *s.curvature_level, *s.curvature_cost);
       }
       base += piece.length_m;

@@ -69,3 +69,32 @@ TEST_P(RtreeBulkLoad, MatchesSqliteInsertsAndPassesRtreecheck) {
 INSTANTIATE_TEST_SUITE_P(Sizes, RtreeBulkLoad, ::testing::Values(0, 1, 51, 52, 2700, 140000));
 
 }  // namespace
+
+namespace {
+
+// 52 equal boxes share one place on the Hilbert curve, so the leaves hold them in id order:
+// the first 51 ids fill leaf node 2, the last one is alone in leaf node 3, and the root (node 1)
+// is the parent of both.
+TEST(RtreeBulkLoadLayout, TiesGoInIdOrderAndEachIdMapsToItsLeaf) {
+  sqlite::Database db(":memory:", SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
+  db.exec("CREATE VIRTUAL TABLE loaded USING rtree(id, minx, maxx, miny, maxy)");
+  std::vector<rp::RtreeEntry> entries;
+  for (std::int64_t id = 10; id < 10 + 52; ++id) entries.push_back({id, {1.0, 2.0, 3.0, 4.0}});
+  rp::bulk_load_rtree(db.handle(), "loaded", entries);
+  EXPECT_EQ(scalar(db, "SELECT count(*) FROM loaded_rowid WHERE nodeno = 2"), 51);
+  EXPECT_EQ(scalar(db, "SELECT max(rowid) FROM loaded_rowid WHERE nodeno = 2"), 60);
+  EXPECT_EQ(scalar(db, "SELECT rowid FROM loaded_rowid WHERE nodeno = 3"), 61);
+  EXPECT_EQ(scalar(db, "SELECT count(*) FROM loaded_parent WHERE parentnode = 1"), 2);
+  auto check = db.prepare("SELECT rtreecheck('loaded')");
+  ASSERT_TRUE(check.step());
+  EXPECT_EQ(check.column_text(0), "ok");
+}
+
+TEST(RtreeBulkLoadLayout, RefusesIdsThatDoNotAscend) {
+  sqlite::Database db(":memory:", SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
+  db.exec("CREATE VIRTUAL TABLE loaded USING rtree(id, minx, maxx, miny, maxy)");
+  const std::vector<rp::RtreeEntry> entries = {{2, {0, 1, 0, 1}}, {1, {5, 6, 5, 6}}};
+  EXPECT_THROW(rp::bulk_load_rtree(db.handle(), "loaded", entries), std::invalid_argument);
+}
+
+}  // namespace

@@ -67,6 +67,29 @@ TEST(Segmentation, StraightWayIsCutIntoEqualSegments) {
   EXPECT_EQ(degree(b.graph, 2), 1);
 }
 
+// The offset is derived from the piece, not stored: segment k of a piece cut into n equal
+// parts starts k * length / n from the piece's start, and each piece starts again at 0.
+TEST(Segmentation, OffsetInPieceIsTheSumOfTheSegmentsBefore) {
+  const Built b =
+      build(rt::osm_node(1, 50.0, 14.4) + rt::osm_node(2, 50.0, 14.4013) +
+            rt::osm_node(3, 50.0, 14.40195) + rt::osm_way(10, "1 2", "highway=residential") +
+            rt::osm_way(20, "2 3", "highway=residential"));
+  ASSERT_EQ(b.graph.pieces.size(), 2u);
+  // Way 10: 93.169 m in 10 segments; way 20, half as long: 46.58 m in ceil(4.658) = 5.
+  ASSERT_EQ(b.graph.pieces[0].segment_count, 10u);
+  ASSERT_EQ(b.graph.pieces[1].segment_count, 5u);
+  for (const rp::RoadPiece& piece : b.graph.pieces) {
+    double before_m = 0.0;
+    for (std::size_t k = 0; k < piece.segment_count; ++k) {
+      const rp::Segment& s = b.graph.segments[piece.first_segment + k];
+      EXPECT_NEAR(b.graph.offset_in_piece_m(s), kStraightLength_m / 10 * static_cast<double>(k),
+                  1e-3);
+      EXPECT_NEAR(b.graph.offset_in_piece_m(s), before_m, 1e-9);
+      before_m += s.length_m;
+    }
+  }
+}
+
 TEST(Segmentation, MaxSegmentLengthIsRespected) {
   // 93.169 m with a 50 m limit -> 2 segments; with 100 m -> 1.
   const std::string body = rt::osm_node(1, 50.0, 14.4) + rt::osm_node(2, 50.0, 14.4013) +

@@ -69,13 +69,34 @@ struct ContextReport {
   std::uint64_t override_segments = 0;                  ///< segments touched by an override
   std::vector<std::size_t> unmatched_overrides;         ///< feature indexes that touched nothing
   std::uint64_t busy_segments = 0;
+  /// Context scores by way index, without and with the crossing bonus: left by
+  /// compute_way_context for finish_context, which empties it.
+  struct WayScores {
+    int away = 0;
+    int near_crossing = 0;
+  };
+  std::vector<WayScores> way_scores;
 
   /// One line per tag ("maxspeed: default on 12 of 653 road ways (2 not understood)") and the
   /// crossing and override counts.
   std::vector<std::string> summary_lines() const;
 };
 
-/// Runs the stage on the graph. `overrides` may be empty.
+/// The part of the stage that needs the road network: the country, every segment's speed
+/// limit, lanes and width, the crossings and each way's two possible context scores. It reads
+/// only what segmenting set, so the build runs it right after segmenting and frees the network
+/// before the cost stages (a sixth of the memory at that point).
+ContextReport compute_way_context(RoadGraph& graph, const RoadNetwork& network,
+                                  const ContextParameters& parameters,
+                                  std::string_view country_option);
+
+/// The rest, after the other cost stages: the crossing distances and the context scores, then
+/// the overrides (which may change any cost, so they come after all of them) and BUSY_ROAD.
+/// `overrides` may be empty.
+void finish_context(RoadGraph& graph, const ContextParameters& parameters,
+                    const std::vector<Override>& overrides, ContextReport& report);
+
+/// Both parts at once. `overrides` may be empty.
 ContextReport compute_context(RoadGraph& graph, const RoadNetwork& network,
                               const ContextParameters& parameters, std::string_view country_option,
                               const std::vector<Override>& overrides);

@@ -24,13 +24,15 @@ struct RtreeEntry {
 };
 
 /// Fills the empty 2-D R*Tree virtual table `rtree_name` (created with CREATE VIRTUAL TABLE ...
-/// USING rtree(id, minx, maxx, miny, maxy) in `db`, nothing inserted yet) with `entries`.
-/// Throws sqlite::sqlite_error on failure.
+/// USING rtree(id, minx, maxx, miny, maxy) in `db`, nothing inserted yet) with `entries`, whose
+/// ids must ascend (std::invalid_argument otherwise). Throws sqlite::sqlite_error on failure.
 void bulk_load_rtree(sqlite3* db, const std::string& rtree_name,
                      const std::vector<RtreeEntry>& entries);
 
-/// The same for `count` entries produced by `entry_at(i)`, i < count (called twice per
-/// entry): the caller need not hold the entries (40 bytes each; the load holds 32).
+/// The same for `count` (< 2^32) entries produced by `entry_at(i)`, i < count, ids ascending
+/// with i. `entry_at` is called four times per entry: the caller need not hold the entries
+/// (40 bytes each), and the load holds 12 bytes an entry (its place on the curve and its leaf),
+/// not the boxes: at the build's peak memory that matters more than the repeated calls.
 void bulk_load_rtree(sqlite3* db, const std::string& rtree_name, std::size_t count,
                      const std::function<RtreeEntry(std::size_t)>& entry_at);
 

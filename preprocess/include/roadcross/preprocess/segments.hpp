@@ -67,11 +67,11 @@ class LandformLabel {
 /// that there is no padding, the line's points in RoadGraph::segment_points; 272 bytes before,
 /// 168 now): a country has tens of millions.
 struct Segment {
-  std::int64_t id = 0;  ///< 1-based, stable for identical inputs
+  /// 1-based, stable for identical inputs: the segment's index in RoadGraph::segments + 1.
+  std::int64_t id = 0;
   std::int64_t osm_way_id = 0;
   std::int64_t from_node_id = 0;  ///< OSM node id, or negative for a split point inside a way
   std::int64_t to_node_id = 0;
-  double offset_in_piece_m = 0.0;  ///< distance from the piece's start to this segment's start
   double length_m = 0.0;
   InternedText highway;  ///< highway=* value, interned in RoadGraph::text
   InternedText name;     ///< the way's name, interned in RoadGraph::text (empty: none)
@@ -147,6 +147,16 @@ struct RoadGraph {
   std::vector<PlanePoint> segment_points;
   std::uint64_t dropped_node_refs = 0;  ///< references to nodes missing from the file
   std::uint64_t dropped_ways = 0;       ///< ways with fewer than two located nodes
+
+  /// Distance from the start of the segment's piece to the segment's start, metres: the
+  /// segmenter cuts a piece into segment_count equal parts, so this is derived (exactly, the
+  /// same arithmetic) from the segment's place in the piece rather than stored (8 bytes a
+  /// segment).
+  double offset_in_piece_m(const Segment& segment) const noexcept {
+    const RoadPiece& piece = pieces[segment.piece_index];
+    const auto k = static_cast<std::size_t>(segment.id - 1) - piece.first_segment;
+    return piece.length_m / static_cast<double>(piece.segment_count) * static_cast<double>(k);
+  }
 
   /// A segment's line (UTM metres, >= 2 points; what geometry functions take).
   std::span<const PlanePoint> line(const Segment& segment) const noexcept {
