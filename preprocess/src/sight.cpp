@@ -1,5 +1,7 @@
 #include "roadcross/preprocess/sight.hpp"
 
+#include "roadcross/preprocess/edge_grid.hpp"
+
 #include <algorithm>
 #include <atomic>
 #include <bit>
@@ -48,140 +50,9 @@ void SightParameters::describe(std::vector<ParameterSpec>& out) {
 
 namespace {
 
-/// Calls visit(ix, iy) for every square cell of side `cell_m` that the segment a->b passes
-/// through, starting at a's end, until visit returns true (then returns true). Row by row: the
-/// part of the segment inside each row of cells gives the columns. Every interval is widened by
-/// kSlack cells, so a point of the segment is always in a visited cell despite rounding.
-template <typename Visit>
-bool for_cells_along(const PlanePoint& a, const PlanePoint& b, double cell_m, Visit&& visit) {
-  constexpr double kSlack = 1e-6;  // in cells: 16 micrometres at 16 m
-  const double ax = a.x / cell_m, ay = a.y / cell_m, bx = b.x / cell_m, by = b.y / cell_m;
-  const double y_min = std::min(ay, by), y_max = std::max(ay, by);
-  const bool up = by >= ay, right = bx >= ax;
-  const auto first_row =
-      static_cast<std::int64_t>(std::floor((up ? y_min : y_max) + (up ? -kSlack : kSlack)));
-  const auto last_row =
-      static_cast<std::int64_t>(std::floor((up ? y_max : y_min) + (up ? kSlack : -kSlack)));
-  const std::int64_t row_step = up ? 1 : -1;
-  for (std::int64_t row = first_row;; row += row_step) {
-    double x0 = std::min(ax, bx), x1 = std::max(ax, bx);
-    if (by != ay) {
-      // The segment's x at the row's lower and upper edges, clamped to the segment.
-      const double t0 = std::clamp((double(row) - kSlack - ay) / (by - ay), 0.0, 1.0);
-      const double t1 = std::clamp((double(row + 1) + kSlack - ay) / (by - ay), 0.0, 1.0);
-      x0 = ax + t0 * (bx - ax);
-      x1 = ax + t1 * (bx - ax);
-      if (x0 > x1) std::swap(x0, x1);
-    }
-    const auto c0 = static_cast<std::int64_t>(std::floor(x0 - kSlack));
-    const auto c1 = static_cast<std::int64_t>(std::floor(x1 + kSlack));
-    if (right) {
-      for (std::int64_t c = c0; c <= c1; ++c) {
-        if (visit(c, row)) return true;
-      }
-    } else {
-      for (std::int64_t c = c1; c >= c0; --c) {
-        if (visit(c, row)) return true;
-      }
-    }
-    if (row == last_row) return false;
-  }
-}
-
-/// Obstacle edges bucketed by the square cells they pass through. The occupied cells are in an
-/// open-addressing hash table (a country's extent in 16 m cells would not fit a dense array).
-/// A line of sight visits its cells from the eye outwards and stops at the first edge that
-/// blocks it: most blocked lines stop near the eye, and a clear line looks only at the edges
-/// along it. (An R*-tree queried with the line cost 4x as much: it walks the whole query and
-/// tests every node box against the line.)
-class EdgeGrid {
- public:
-  /// 8-16 m were equally fast on Monaco; 6 and 24 m slower.
-  static constexpr double kCellM = 16.0;
-
-  /// Two walks over the edges' cells: the first counts the edges of each cell, the second
-  /// files them; 4 bytes per (edge, cell) and 16-32 per occupied cell, nothing larger.
-  explicit EdgeGrid(const std::vector<ObstacleEdge>& edges) {
-    table_.assign(1024, Slot{});
-    mask_ = table_.size() - 1;
-    std::size_t cells = 0;
-    for (const ObstacleEdge& e : edges) {
-      for_cells_along(e.a, e.b, kCellM, [&](std::int64_t c, std::int64_t r) {
-        const std::uint64_t k = key(c, r);
-        Slot& slot = find_or_add(k, cells);
-        ++slot.end;  // the count, for now
-        if (2 * cells > table_.size()) grow();
-        return false;
-      });
-    }
-    for (Slot& slot : table_) {  // counts -> [begin, begin): a cursor for the second walk
-      const std::uint32_t count = slot.end;
-      slot.begin = slot.end = static_cast<std::uint32_t>(edges_.size());
-      edges_.resize(edges_.size() + count);
-    }
-    for (std::size_t i = 0; i < edges.size(); ++i) {
-      for_cells_along(edges[i].a, edges[i].b, kCellM, [&](std::int64_t c, std::int64_t r) {
-        Slot& slot = find_or_add(key(c, r), cells);
-        edges_[slot.end++] = static_cast<std::uint32_t>(i);
-        return false;
-      });
-    }
-  }
-
-  /// True when test(edge index) is true for an edge in a cell the segment a->b passes through
-  /// (every edge the segment crosses is among them); the cells are visited from a.
-  template <typename Test>
-  bool any_along(const PlanePoint& a, const PlanePoint& b, Test&& test) const {
-    if (edges_.empty()) return false;
-    return for_cells_along(a, b, kCellM, [&](std::int64_t c, std::int64_t r) {
-      const std::uint64_t k = key(c, r);
-      for (std::size_t at = hash(k) & mask_; table_[at].used; at = (at + 1) & mask_) {
-        if (table_[at].key != k) continue;
-        for (std::uint32_t e = table_[at].begin; e < table_[at].end; ++e) {
-          if (test(edges_[e])) return true;
-        }
-        return false;
-      }
-      return false;
-    });
-  }
-
- private:
-  struct Slot {
-    std::uint64_t key = 0;
-    std::uint32_t begin = 0, end = 0;  ///< edges_[begin, end) are the cell's edges
-    bool used = false;
-  };
-  /// The slot of cell k, occupied (counted in `cells`) if it was empty.
-  Slot& find_or_add(std::uint64_t k, std::size_t& cells) {
-    std::size_t at = hash(k) & mask_;
-    while (table_[at].used && table_[at].key != k) at = (at + 1) & mask_;
-    if (!table_[at].used) table_[at] = {k, 0, 0, true}, ++cells;
-    return table_[at];
-  }
-  void grow() {
-    std::vector<Slot> old(table_.size() * 2);
-    old.swap(table_);
-    mask_ = table_.size() - 1;
-    for (const Slot& slot : old) {
-      if (!slot.used) continue;
-      std::size_t at = hash(slot.key) & mask_;
-      while (table_[at].used) at = (at + 1) & mask_;
-      table_[at] = slot;
-    }
-  }
-  static std::uint64_t key(std::int64_t column, std::int64_t row) {
-    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(column)) << 32) |
-           static_cast<std::uint32_t>(row);
-  }
-  static std::size_t hash(std::uint64_t k) {
-    return static_cast<std::size_t>((k * 0x9E3779B97F4A7C15ull) >> 20);
-  }
-
-  std::vector<Slot> table_;
-  std::size_t mask_ = 0;
-  std::vector<std::uint32_t> edges_;  ///< edge indices, cell by cell
-};
+using sight_detail::crossing_parameter;
+using sight_detail::EdgeGrid;
+using sight_detail::PlanLine;
 
 struct Point3 {
   double x = 0.0, y = 0.0, z = 0.0;
@@ -311,19 +182,6 @@ Path follow_road(const RoadGraph& graph, const Incidences& incidences,
   return path;
 }
 
-/// Where the sight line e->t crosses the edge a->b: the parameter along e->t, or NaN.
-double crossing_parameter(const Point3& e, const Point3& t, const PlanePoint& a,
-                          const PlanePoint& b) {
-  const double rx = t.x - e.x, ry = t.y - e.y, sx = b.x - a.x, sy = b.y - a.y;
-  const double denom = rx * sy - ry * sx;
-  if (std::abs(denom) < 1e-12) return NAN;  // parallel: grazing along an edge hides nothing
-  const double qx = a.x - e.x, qy = a.y - e.y;
-  const double along_line = (qx * sy - qy * sx) / denom;
-  const double along_edge = (qx * ry - qy * rx) / denom;
-  if (along_line < 0.0 || along_line > 1.0 || along_edge < 0.0 || along_edge > 1.0) return NAN;
-  return along_line;
-}
-
 /// What blocks a line of sight: the terrain and the obstacle prisms.
 class Scene {
  public:
@@ -358,12 +216,15 @@ class Scene {
 
   /// The line passes through the opaque band of an obstacle edge it crosses in plan.
   bool obstacle_blocks(const Point3& eye, const Point3& target) const {
-    return grid_.any_along({eye.x, eye.y}, {target.x, target.y},
-                           [&](std::uint32_t i) { return edge_blocks(edges_[i], eye, target); });
+    const PlanLine line({eye.x, eye.y}, {target.x, target.y});
+    return grid_.any_along({eye.x, eye.y}, {target.x, target.y}, [&](std::uint32_t i) {
+      return edge_blocks(edges_[i], line, eye, target);
+    });
   }
 
-  bool edge_blocks(const ObstacleEdge& edge, const Point3& eye, const Point3& target) const {
-    const double t = crossing_parameter(eye, target, edge.a, edge.b);
+  bool edge_blocks(const ObstacleEdge& edge, const PlanLine& line, const Point3& eye,
+                   const Point3& target) const {
+    const double t = crossing_parameter(line, edge.a, edge.b);
     if (std::isnan(t)) return false;
     const double z = eye.z + t * (target.z - eye.z);
     const PlanePoint p{eye.x + t * (target.x - eye.x), eye.y + t * (target.y - eye.y)};
