@@ -3,6 +3,7 @@
 #include "roadcross/preprocess/edge_grid.hpp"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <bit>
 #include <cmath>
@@ -79,13 +80,30 @@ struct Path {
     points.push_back(p);
     at_m.push_back(at_m.back() + step);
   }
-  PlanePoint at(double d_m) const {
-    const auto it = std::upper_bound(at_m.begin(), at_m.end(), d_m);
-    if (it == at_m.begin()) return points.front();
-    if (it == at_m.end()) return points.back();
-    const auto i = static_cast<std::size_t>(it - at_m.begin());
-    return lerp(points[i - 1], points[i], (d_m - at_m[i - 1]) / (at_m[i] - at_m[i - 1]));
+};
+
+/// The point at d_m along a path, for positions asked mostly near the last one (the steps go
+/// outwards, the bisection stays between two of them): the leg is found by walking from the
+/// last one instead of a binary search each time; the same leg and point either way.
+class PathCursor {
+ public:
+  explicit PathCursor(const Path& path) : path_(path) {}
+
+  PlanePoint at(double d_m) {
+    const std::vector<double>& at_m = path_.at_m;
+    // next_: the first vertex beyond d_m (std::upper_bound's answer; at_m increases).
+    while (next_ < at_m.size() && at_m[next_] <= d_m) ++next_;
+    while (next_ > 0 && at_m[next_ - 1] > d_m) --next_;
+    if (next_ == 0) return path_.points.front();
+    if (next_ == at_m.size()) return path_.points.back();
+    const std::size_t i = next_;
+    return lerp(path_.points[i - 1], path_.points[i],
+                (d_m - at_m[i - 1]) / (at_m[i] - at_m[i - 1]));
   }
+
+ private:
+  const Path& path_;
+  std::size_t next_ = 0;
 };
 
 /// Cumulative length at each vertex of a piece.
@@ -237,39 +255,85 @@ class Scene {
   EdgeGrid grid_;
 };
 
-/// How far along `path` a vehicle stays continuously visible from `eye`: stepping out by
-/// step_m until the first hidden position, then bisecting between it and the last visible one.
-/// A road that ends (dead end) before the range hides no vehicle beyond: the range is returned.
-/// The caller keeps the smaller of this and `cap_m` (the other kerb's answer): once the vehicle
-/// is seen as far as cap_m the answer cannot be smaller, so cap_m is returned without looking
-/// further — the same result as the full search, with fewer lines of sight.
-double sight_along(const Scene& scene, const Path& path, const Point3& eye,
-                   const SightParameters& p, double cap_m, std::size_t& tests) {
-  const auto target_at = [&](double d_m) {
-    const PlanePoint q = path.at(d_m);
-    const double g = scene.ground(q, eye.ground_m);
-    return Point3{q.x, q.y, g + p.object_height_m, g};
-  };
-  const auto visible = [&](double d_m) {
-    ++tests;
-    return scene.visible(eye, target_at(d_m));
-  };
-  const double end_m = std::min(p.range_m, path.length_m());
-  double seen_m = 0.0;
-  for (std::size_t k = 1; seen_m < end_m; ++k) {
-    if (seen_m >= cap_m) return cap_m;
-    const double d_m = std::min(double(k) * p.step_m, end_m);
-    if (!visible(d_m)) {
-      double hidden_m = d_m;
-      for (int i = 0; i < 6; ++i) {  // step / 64: 8 cm at the default step
-        const double mid_m = 0.5 * (seen_m + hidden_m);
-        (visible(mid_m) ? seen_m : hidden_m) = mid_m;
-      }
-      return seen_m;
+/// How far along `path` a vehicle stays continuously visible from `eye`, one vehicle position
+/// at a time: stepping out by step_m until the first hidden position, then bisecting between it
+/// and the last visible one. A road that ends (dead end) before the range hides no vehicle
+/// beyond: the answer is then the range.
+class KerbSearch {
+ public:
+  KerbSearch(const Scene& scene, const Path& path, const Point3& eye, const SightParameters& p,
+             std::size_t& tests)
+      : scene_(scene),
+        cursor_(path),
+        eye_(eye),
+        p_(p),
+        tests_(tests),
+        end_m_(std::min(p.range_m, path.length_m())),
+        done_(!(seen_m_ < end_m_)),
+        answer_m_(p.range_m) {}
+
+  bool done() const { return done_; }
+  double answer_m() const { return answer_m_; }  ///< once done()
+
+  /// Tries the next position (and bisects when it is hidden). Only while !done().
+  void step() {
+    const double d_m = std::min(double(k_++) * p_.step_m, end_m_);
+    if (visible(d_m)) {
+      seen_m_ = d_m;
+      done_ = !(seen_m_ < end_m_);  // answer_m_ stays the range
+      return;
     }
-    seen_m = d_m;
+    double hidden_m = d_m;
+    for (int i = 0; i < 6; ++i) {  // step / 64: 8 cm at the default step
+      const double mid_m = 0.5 * (seen_m_ + hidden_m);
+      (visible(mid_m) ? seen_m_ : hidden_m) = mid_m;
+    }
+    answer_m_ = seen_m_, done_ = true;
   }
-  return p.range_m;
+
+  /// min(cap_m, the answer). Once the vehicle is seen as far as cap_m the answer cannot be
+  /// smaller, so cap_m is returned without looking further.
+  double answer_up_to(double cap_m) {
+    while (!done_) {
+      if (seen_m_ >= cap_m) return cap_m;
+      step();
+    }
+    return std::min(cap_m, answer_m_);
+  }
+
+ private:
+  bool visible(double d_m) {
+    ++tests_;
+    const PlanePoint q = cursor_.at(d_m);
+    const double g = scene_.ground(q, eye_.ground_m);
+    return scene_.visible(eye_, Point3{q.x, q.y, g + p_.object_height_m, g});
+  }
+
+  const Scene& scene_;
+  PathCursor cursor_;
+  const Point3 eye_;
+  const SightParameters& p_;
+  std::size_t& tests_;
+  const double end_m_;
+  std::size_t k_ = 1;    ///< the next step
+  double seen_m_ = 0.0;  ///< the vehicle is seen at every position tried up to here
+  bool done_;
+  double answer_m_;
+};
+
+/// The smaller of the two kerbs' answers along one road direction (the robot may arrive on
+/// either side). The kerbs step out together, so that neither is followed further than the
+/// other's answer: searching one kerb after the other followed the first as far as it saw
+/// (300 m on an open road) even when the second stopped after 20 m. The answer is the same:
+/// min(a, b) whatever the order, every position tried by the same arithmetic.
+double worse_kerb_m(KerbSearch& a, KerbSearch& b) {
+  while (!a.done() && !b.done()) {
+    a.step();
+    if (!a.done()) b.step();
+  }
+  KerbSearch& finished = a.done() ? a : b;
+  KerbSearch& other = a.done() ? b : a;
+  return other.answer_up_to(finished.answer_m());
 }
 
 double required_sight_m(const Segment& s, const SightParameters& p) {
@@ -302,17 +366,21 @@ void sight_of_segment(const Context& c, Segment& s, std::size_t& tests) {
   const double len = std::max(1e-9, distance_m(a, b));
   const PlanePoint normal{-(b.y - a.y) / len, (b.x - a.x) / len};
   const double half_width_m = 0.5 * s.width_m.value_or(float(c.p.default_width_m));
-  double forward_m = c.p.range_m, backward_m = c.p.range_m;
-  for (const double side : {1.0, -1.0}) {
+  std::array<Point3, 2> eyes;  // the left kerb, then the right one
+  for (std::size_t i = 0; i < 2; ++i) {
+    const double side = i == 0 ? 1.0 : -1.0;
     const PlanePoint kerb{ahead.points[0].x + side * half_width_m * normal.x,
                           ahead.points[0].y + side * half_width_m * normal.y};
     // On a bridge the ground under the kerb is the valley: the structure's elevation counts.
     const double fallback = s.elevation_m.value_or(0.0f);
     const double g = s.bridge ? fallback : c.scene.ground(kerb, fallback);
-    const Point3 eye{kerb.x, kerb.y, g + c.p.sensor_height_m, g};
-    forward_m = std::min(forward_m, sight_along(c.scene, ahead, eye, c.p, forward_m, tests));
-    backward_m = std::min(backward_m, sight_along(c.scene, behind, eye, c.p, backward_m, tests));
+    eyes[i] = Point3{kerb.x, kerb.y, g + c.p.sensor_height_m, g};
   }
+  const auto worse_m = [&](const Path& path) {
+    KerbSearch left(c.scene, path, eyes[0], c.p, tests), right(c.scene, path, eyes[1], c.p, tests);
+    return worse_kerb_m(left, right);
+  };
+  const double forward_m = worse_m(ahead), backward_m = worse_m(behind);
   s.sight_forward_m = forward_m;
   s.sight_backward_m = backward_m;
   s.sight_min_m = std::min(forward_m, backward_m);

@@ -177,8 +177,10 @@ class EdgeGrid {
     return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(column)) << 32) |
            static_cast<std::uint32_t>(row);
   }
+  /// Fibonacci hashing; the product's high half depends on both the column (high 32 bits of k)
+  /// and the row (the low half alone would see only the row: a row of tiles in one probe chain).
   static std::size_t hash(std::uint64_t k) {
-    return static_cast<std::size_t>((k * 0x9E3779B97F4A7C15ull) >> 20);
+    return static_cast<std::size_t>((k * 0x9E3779B97F4A7C15ull) >> 32);
   }
 
   std::vector<Slot> table_;  ///< occupied tiles, at most half full
