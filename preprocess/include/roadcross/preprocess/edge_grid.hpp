@@ -9,6 +9,8 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <iterator>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -84,6 +86,8 @@ class EdgeGrid {
   /// Two walks over the edges' cells: the first counts the edges of each cell, the second files
   /// them (every cell's edges in increasing index order).
   explicit EdgeGrid(const std::vector<ObstacleEdge>& edges) {
+    if (edges.size() >= kNoEdge)
+      throw std::length_error("sight: more than 2^32 - 1 obstacle edges");
     table_.assign(64, Slot{});
     mask_ = table_.size() - 1;
     for (const ObstacleEdge& e : edges) {
@@ -107,10 +111,17 @@ class EdgeGrid {
   }
 
   /// True when test(edge index) is true for an edge in a cell the segment a->b passes through
-  /// (every edge the segment crosses is among them); the cells are visited from a.
+  /// (every edge the segment crosses is among them); the cells are visited from a. An edge
+  /// listed in two cells along the line is mostly offered once: `test` must give the same
+  /// answer for the same edge (it does: one line, one edge).
   template <typename Test>
   bool any_along(const PlanePoint& a, const PlanePoint& b, Test&& test) const {
     if (edges_.empty()) return false;
+    // The edges offered lately, by index modulo kRecent (direct-mapped: a collision only
+    // costs a test again). About a third of the edges along a line were repeats.
+    constexpr std::size_t kRecent = 64;
+    std::uint32_t recent[kRecent];
+    std::fill(std::begin(recent), std::end(recent), kNoEdge);
     bool looked_up = false;                 // (every key is some tile's: no sentinel key)
     std::uint64_t tile_key = 0;             // the tile looked up last
     const std::uint32_t* begins = nullptr;  // of tile_key's cells; nullptr: empty tile
@@ -121,7 +132,11 @@ class EdgeGrid {
       const std::size_t cell = cell_in_tile(c, r);
       // A tile's last cell ends where the next tile's first begins (the sentinel at the end).
       for (std::uint32_t e = begins[cell]; e < begins[cell + 1]; ++e) {
-        if (test(edges_[e])) return true;
+        const std::uint32_t edge = edges_[e];
+        std::uint32_t& slot = recent[edge % kRecent];
+        if (slot == edge) continue;
+        slot = edge;
+        if (test(edge)) return true;
       }
       return false;
     });
@@ -132,6 +147,8 @@ class EdgeGrid {
   std::size_t entries() const { return edges_.size(); }
 
  private:
+  static constexpr std::uint32_t kNoEdge = 0xFFFFFFFFu;  ///< not an edge index
+
   struct Slot {
     std::uint64_t key = 0;
     std::uint32_t tile = 0;  ///< tile index: its cells are begins_[kTileCells * tile ...]
