@@ -391,7 +391,8 @@ void sight_of_segment(const Context& c, Segment& s, std::size_t& tests) {
 }  // namespace
 
 SightReport compute_sight(RoadGraph& graph, const Grid* terrain,
-                          const std::vector<ObstacleEdge>& obstacles, const SightParameters& p) {
+                          std::vector<ObstacleEdge> obstacles, const SightParameters& p) {
+  sight_detail::sort_by_cell(obstacles);
   const Scene scene(terrain, obstacles);
   std::vector<std::vector<double>> cumulative;
   cumulative.reserve(graph.pieces.size());

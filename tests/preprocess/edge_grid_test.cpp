@@ -206,6 +206,18 @@ TEST(EdgeGrid, AgreesWithAPlainSetOfCellsPerEdge) {
   }
 }
 
+TEST(EdgeGrid, SortByCellOrdersByTileThenCellOfTheFirstEnd) {
+  // First ends: cell (18, 0) in tile (1, 0); cells (0, 0), (1, 0) and (0, 1) in tile (0, 0);
+  // cell (0, 18) in tile (0, 1) (tile row 1 comes after tile row 0); cell (-1, 0) in tile (-1, 0).
+  std::vector<rp::ObstacleEdge> edges{edge(300, 10, 0, 0), edge(5, 5, 0, 0),   edge(20, 3, 0, 0),
+                                      edge(3, 20, 0, 0),   edge(5, 300, 0, 0), edge(-3, 2, 0, 0)};
+  sd::sort_by_cell(edges);
+  std::vector<std::pair<double, double>> firsts;
+  for (const rp::ObstacleEdge& e : edges) firsts.emplace_back(e.a.x, e.a.y);
+  EXPECT_EQ(firsts, (std::vector<std::pair<double, double>>{
+                        {-3, 2}, {5, 5}, {20, 3}, {3, 20}, {300, 10}, {5, 300}}));
+}
+
 TEST(EdgeGrid, SurelyOutsideUnitRejectsOnlyQuotientsOutsideZeroOne) {
   EXPECT_TRUE(sd::surely_outside_unit(-1.0, 2.0));  // -0.5
   EXPECT_TRUE(sd::surely_outside_unit(3.0, -2.0));  // -1.5

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <limits>
 #include <stdexcept>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -198,6 +199,21 @@ class EdgeGrid {
   std::vector<std::uint32_t> begins_;
   std::vector<std::uint32_t> edges_;  ///< edge indices, cell by cell
 };
+
+/// Sorts the edges by the tile and then the cell of their first end (both row by row), so that
+/// the edges of a cell, and of the cells along a line, lie together in memory: in way order an
+/// edge a line tests is anywhere in the array (68 MB at 10x Monaco), each one a cache miss. The
+/// answers do not depend on the order (a line is blocked when any edge blocks it).
+inline void sort_by_cell(std::vector<ObstacleEdge>& edges) {
+  const auto cell_key = [](const ObstacleEdge& e) {
+    const std::int64_t column = floor_to_int(e.a.x / EdgeGrid::kCellM);
+    const std::int64_t row = floor_to_int(e.a.y / EdgeGrid::kCellM);
+    return std::tuple{row >> EdgeGrid::kTileShift, column >> EdgeGrid::kTileShift, row, column};
+  };
+  std::sort(edges.begin(), edges.end(), [&](const ObstacleEdge& x, const ObstacleEdge& y) {
+    return cell_key(x) < cell_key(y);
+  });
+}
 
 /// A line of sight in plan, from the eye (ex, ey) by (rx, ry) to the target.
 struct PlanLine {
