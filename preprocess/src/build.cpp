@@ -12,6 +12,7 @@
 #include <functional>
 #include <future>
 #include <optional>
+#include <utility>
 
 #include "roadcross/preprocess/context.hpp"
 #include "roadcross/preprocess/errors.hpp"
@@ -73,13 +74,13 @@ std::vector<std::string> run_sight_stage(const BuildOptions& options, RoadGraph&
   }
   constexpr double kReachM = 100.0;  // well beyond half of any carriageway's width
   progress.start_stage("buildings and walls");
-  const Obstacles obstacles = reader.take_edges(graph.zone, min, max, kReachM);
+  Obstacles obstacles = reader.take_edges(graph.zone, min, max, kReachM);
   progress.finish_stage(std::to_string(obstacles.report.buildings) + " buildings, " +
                         std::to_string(obstacles.report.walls) + " walls, " +
                         std::to_string(obstacles.report.fences) + " fences, " +
                         std::to_string(obstacles.report.edges) + " edges");
   progress.start_stage("sight distance");
-  const SightReport report = compute_sight(graph, terrain, obstacles.edges, p);
+  const SightReport report = compute_sight(graph, terrain, std::move(obstacles.edges), p);
   progress.finish_stage(std::to_string(report.segments) + " segments, " +
                         std::to_string(report.limited) + " LIMITED_VISIBILITY, " +
                         std::to_string(report.lines_of_sight) + " lines of sight");

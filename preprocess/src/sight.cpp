@@ -1,6 +1,9 @@
 #include "roadcross/preprocess/sight.hpp"
 
+#include "roadcross/preprocess/edge_grid.hpp"
+
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <bit>
 #include <cmath>
@@ -48,140 +51,9 @@ void SightParameters::describe(std::vector<ParameterSpec>& out) {
 
 namespace {
 
-/// Calls visit(ix, iy) for every square cell of side `cell_m` that the segment a->b passes
-/// through, starting at a's end, until visit returns true (then returns true). Row by row: the
-/// part of the segment inside each row of cells gives the columns. Every interval is widened by
-/// kSlack cells, so a point of the segment is always in a visited cell despite rounding.
-template <typename Visit>
-bool for_cells_along(const PlanePoint& a, const PlanePoint& b, double cell_m, Visit&& visit) {
-  constexpr double kSlack = 1e-6;  // in cells: 16 micrometres at 16 m
-  const double ax = a.x / cell_m, ay = a.y / cell_m, bx = b.x / cell_m, by = b.y / cell_m;
-  const double y_min = std::min(ay, by), y_max = std::max(ay, by);
-  const bool up = by >= ay, right = bx >= ax;
-  const auto first_row =
-      static_cast<std::int64_t>(std::floor((up ? y_min : y_max) + (up ? -kSlack : kSlack)));
-  const auto last_row =
-      static_cast<std::int64_t>(std::floor((up ? y_max : y_min) + (up ? kSlack : -kSlack)));
-  const std::int64_t row_step = up ? 1 : -1;
-  for (std::int64_t row = first_row;; row += row_step) {
-    double x0 = std::min(ax, bx), x1 = std::max(ax, bx);
-    if (by != ay) {
-      // The segment's x at the row's lower and upper edges, clamped to the segment.
-      const double t0 = std::clamp((double(row) - kSlack - ay) / (by - ay), 0.0, 1.0);
-      const double t1 = std::clamp((double(row + 1) + kSlack - ay) / (by - ay), 0.0, 1.0);
-      x0 = ax + t0 * (bx - ax);
-      x1 = ax + t1 * (bx - ax);
-      if (x0 > x1) std::swap(x0, x1);
-    }
-    const auto c0 = static_cast<std::int64_t>(std::floor(x0 - kSlack));
-    const auto c1 = static_cast<std::int64_t>(std::floor(x1 + kSlack));
-    if (right) {
-      for (std::int64_t c = c0; c <= c1; ++c) {
-        if (visit(c, row)) return true;
-      }
-    } else {
-      for (std::int64_t c = c1; c >= c0; --c) {
-        if (visit(c, row)) return true;
-      }
-    }
-    if (row == last_row) return false;
-  }
-}
-
-/// Obstacle edges bucketed by the square cells they pass through. The occupied cells are in an
-/// open-addressing hash table (a country's extent in 16 m cells would not fit a dense array).
-/// A line of sight visits its cells from the eye outwards and stops at the first edge that
-/// blocks it: most blocked lines stop near the eye, and a clear line looks only at the edges
-/// along it. (An R*-tree queried with the line cost 4x as much: it walks the whole query and
-/// tests every node box against the line.)
-class EdgeGrid {
- public:
-  /// 8-16 m were equally fast on Monaco; 6 and 24 m slower.
-  static constexpr double kCellM = 16.0;
-
-  /// Two walks over the edges' cells: the first counts the edges of each cell, the second
-  /// files them; 4 bytes per (edge, cell) and 16-32 per occupied cell, nothing larger.
-  explicit EdgeGrid(const std::vector<ObstacleEdge>& edges) {
-    table_.assign(1024, Slot{});
-    mask_ = table_.size() - 1;
-    std::size_t cells = 0;
-    for (const ObstacleEdge& e : edges) {
-      for_cells_along(e.a, e.b, kCellM, [&](std::int64_t c, std::int64_t r) {
-        const std::uint64_t k = key(c, r);
-        Slot& slot = find_or_add(k, cells);
-        ++slot.end;  // the count, for now
-        if (2 * cells > table_.size()) grow();
-        return false;
-      });
-    }
-    for (Slot& slot : table_) {  // counts -> [begin, begin): a cursor for the second walk
-      const std::uint32_t count = slot.end;
-      slot.begin = slot.end = static_cast<std::uint32_t>(edges_.size());
-      edges_.resize(edges_.size() + count);
-    }
-    for (std::size_t i = 0; i < edges.size(); ++i) {
-      for_cells_along(edges[i].a, edges[i].b, kCellM, [&](std::int64_t c, std::int64_t r) {
-        Slot& slot = find_or_add(key(c, r), cells);
-        edges_[slot.end++] = static_cast<std::uint32_t>(i);
-        return false;
-      });
-    }
-  }
-
-  /// True when test(edge index) is true for an edge in a cell the segment a->b passes through
-  /// (every edge the segment crosses is among them); the cells are visited from a.
-  template <typename Test>
-  bool any_along(const PlanePoint& a, const PlanePoint& b, Test&& test) const {
-    if (edges_.empty()) return false;
-    return for_cells_along(a, b, kCellM, [&](std::int64_t c, std::int64_t r) {
-      const std::uint64_t k = key(c, r);
-      for (std::size_t at = hash(k) & mask_; table_[at].used; at = (at + 1) & mask_) {
-        if (table_[at].key != k) continue;
-        for (std::uint32_t e = table_[at].begin; e < table_[at].end; ++e) {
-          if (test(edges_[e])) return true;
-        }
-        return false;
-      }
-      return false;
-    });
-  }
-
- private:
-  struct Slot {
-    std::uint64_t key = 0;
-    std::uint32_t begin = 0, end = 0;  ///< edges_[begin, end) are the cell's edges
-    bool used = false;
-  };
-  /// The slot of cell k, occupied (counted in `cells`) if it was empty.
-  Slot& find_or_add(std::uint64_t k, std::size_t& cells) {
-    std::size_t at = hash(k) & mask_;
-    while (table_[at].used && table_[at].key != k) at = (at + 1) & mask_;
-    if (!table_[at].used) table_[at] = {k, 0, 0, true}, ++cells;
-    return table_[at];
-  }
-  void grow() {
-    std::vector<Slot> old(table_.size() * 2);
-    old.swap(table_);
-    mask_ = table_.size() - 1;
-    for (const Slot& slot : old) {
-      if (!slot.used) continue;
-      std::size_t at = hash(slot.key) & mask_;
-      while (table_[at].used) at = (at + 1) & mask_;
-      table_[at] = slot;
-    }
-  }
-  static std::uint64_t key(std::int64_t column, std::int64_t row) {
-    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(column)) << 32) |
-           static_cast<std::uint32_t>(row);
-  }
-  static std::size_t hash(std::uint64_t k) {
-    return static_cast<std::size_t>((k * 0x9E3779B97F4A7C15ull) >> 20);
-  }
-
-  std::vector<Slot> table_;
-  std::size_t mask_ = 0;
-  std::vector<std::uint32_t> edges_;  ///< edge indices, cell by cell
-};
+using sight_detail::crossing_parameter;
+using sight_detail::EdgeGrid;
+using sight_detail::PlanLine;
 
 struct Point3 {
   double x = 0.0, y = 0.0, z = 0.0;
@@ -208,13 +80,30 @@ struct Path {
     points.push_back(p);
     at_m.push_back(at_m.back() + step);
   }
-  PlanePoint at(double d_m) const {
-    const auto it = std::upper_bound(at_m.begin(), at_m.end(), d_m);
-    if (it == at_m.begin()) return points.front();
-    if (it == at_m.end()) return points.back();
-    const auto i = static_cast<std::size_t>(it - at_m.begin());
-    return lerp(points[i - 1], points[i], (d_m - at_m[i - 1]) / (at_m[i] - at_m[i - 1]));
+};
+
+/// The point at d_m along a path, for positions asked mostly near the last one (the steps go
+/// outwards, the bisection stays between two of them): the leg is found by walking from the
+/// last one instead of a binary search each time; the same leg and point either way.
+class PathCursor {
+ public:
+  explicit PathCursor(const Path& path) : path_(path) {}
+
+  PlanePoint at(double d_m) {
+    const std::vector<double>& at_m = path_.at_m;
+    // next_: the first vertex beyond d_m (std::upper_bound's answer; at_m increases).
+    while (next_ < at_m.size() && at_m[next_] <= d_m) ++next_;
+    while (next_ > 0 && at_m[next_ - 1] > d_m) --next_;
+    if (next_ == 0) return path_.points.front();
+    if (next_ == at_m.size()) return path_.points.back();
+    const std::size_t i = next_;
+    return lerp(path_.points[i - 1], path_.points[i],
+                (d_m - at_m[i - 1]) / (at_m[i] - at_m[i - 1]));
   }
+
+ private:
+  const Path& path_;
+  std::size_t next_ = 0;
 };
 
 /// Cumulative length at each vertex of a piece.
@@ -311,19 +200,6 @@ Path follow_road(const RoadGraph& graph, const Incidences& incidences,
   return path;
 }
 
-/// Where the sight line e->t crosses the edge a->b: the parameter along e->t, or NaN.
-double crossing_parameter(const Point3& e, const Point3& t, const PlanePoint& a,
-                          const PlanePoint& b) {
-  const double rx = t.x - e.x, ry = t.y - e.y, sx = b.x - a.x, sy = b.y - a.y;
-  const double denom = rx * sy - ry * sx;
-  if (std::abs(denom) < 1e-12) return NAN;  // parallel: grazing along an edge hides nothing
-  const double qx = a.x - e.x, qy = a.y - e.y;
-  const double along_line = (qx * sy - qy * sx) / denom;
-  const double along_edge = (qx * ry - qy * rx) / denom;
-  if (along_line < 0.0 || along_line > 1.0 || along_edge < 0.0 || along_edge > 1.0) return NAN;
-  return along_line;
-}
-
 /// What blocks a line of sight: the terrain and the obstacle prisms.
 class Scene {
  public:
@@ -358,12 +234,15 @@ class Scene {
 
   /// The line passes through the opaque band of an obstacle edge it crosses in plan.
   bool obstacle_blocks(const Point3& eye, const Point3& target) const {
-    return grid_.any_along({eye.x, eye.y}, {target.x, target.y},
-                           [&](std::uint32_t i) { return edge_blocks(edges_[i], eye, target); });
+    const PlanLine line({eye.x, eye.y}, {target.x, target.y});
+    return grid_.any_along({eye.x, eye.y}, {target.x, target.y}, [&](std::uint32_t i) {
+      return edge_blocks(edges_[i], line, eye, target);
+    });
   }
 
-  bool edge_blocks(const ObstacleEdge& edge, const Point3& eye, const Point3& target) const {
-    const double t = crossing_parameter(eye, target, edge.a, edge.b);
+  bool edge_blocks(const ObstacleEdge& edge, const PlanLine& line, const Point3& eye,
+                   const Point3& target) const {
+    const double t = crossing_parameter(line, edge.a, edge.b);
     if (std::isnan(t)) return false;
     const double z = eye.z + t * (target.z - eye.z);
     const PlanePoint p{eye.x + t * (target.x - eye.x), eye.y + t * (target.y - eye.y)};
@@ -376,39 +255,85 @@ class Scene {
   EdgeGrid grid_;
 };
 
-/// How far along `path` a vehicle stays continuously visible from `eye`: stepping out by
-/// step_m until the first hidden position, then bisecting between it and the last visible one.
-/// A road that ends (dead end) before the range hides no vehicle beyond: the range is returned.
-/// The caller keeps the smaller of this and `cap_m` (the other kerb's answer): once the vehicle
-/// is seen as far as cap_m the answer cannot be smaller, so cap_m is returned without looking
-/// further — the same result as the full search, with fewer lines of sight.
-double sight_along(const Scene& scene, const Path& path, const Point3& eye,
-                   const SightParameters& p, double cap_m, std::size_t& tests) {
-  const auto target_at = [&](double d_m) {
-    const PlanePoint q = path.at(d_m);
-    const double g = scene.ground(q, eye.ground_m);
-    return Point3{q.x, q.y, g + p.object_height_m, g};
-  };
-  const auto visible = [&](double d_m) {
-    ++tests;
-    return scene.visible(eye, target_at(d_m));
-  };
-  const double end_m = std::min(p.range_m, path.length_m());
-  double seen_m = 0.0;
-  for (std::size_t k = 1; seen_m < end_m; ++k) {
-    if (seen_m >= cap_m) return cap_m;
-    const double d_m = std::min(double(k) * p.step_m, end_m);
-    if (!visible(d_m)) {
-      double hidden_m = d_m;
-      for (int i = 0; i < 6; ++i) {  // step / 64: 8 cm at the default step
-        const double mid_m = 0.5 * (seen_m + hidden_m);
-        (visible(mid_m) ? seen_m : hidden_m) = mid_m;
-      }
-      return seen_m;
+/// How far along `path` a vehicle stays continuously visible from `eye`, one vehicle position
+/// at a time: stepping out by step_m until the first hidden position, then bisecting between it
+/// and the last visible one. A road that ends (dead end) before the range hides no vehicle
+/// beyond: the answer is then the range.
+class KerbSearch {
+ public:
+  KerbSearch(const Scene& scene, const Path& path, const Point3& eye, const SightParameters& p,
+             std::size_t& tests)
+      : scene_(scene),
+        cursor_(path),
+        eye_(eye),
+        p_(p),
+        tests_(tests),
+        end_m_(std::min(p.range_m, path.length_m())),
+        done_(!(seen_m_ < end_m_)),
+        answer_m_(p.range_m) {}
+
+  bool done() const { return done_; }
+  double answer_m() const { return answer_m_; }  ///< once done()
+
+  /// Tries the next position (and bisects when it is hidden). Only while !done().
+  void step() {
+    const double d_m = std::min(double(k_++) * p_.step_m, end_m_);
+    if (visible(d_m)) {
+      seen_m_ = d_m;
+      done_ = !(seen_m_ < end_m_);  // answer_m_ stays the range
+      return;
     }
-    seen_m = d_m;
+    double hidden_m = d_m;
+    for (int i = 0; i < 6; ++i) {  // step / 64: 8 cm at the default step
+      const double mid_m = 0.5 * (seen_m_ + hidden_m);
+      (visible(mid_m) ? seen_m_ : hidden_m) = mid_m;
+    }
+    answer_m_ = seen_m_, done_ = true;
   }
-  return p.range_m;
+
+  /// min(cap_m, the answer). Once the vehicle is seen as far as cap_m the answer cannot be
+  /// smaller, so cap_m is returned without looking further.
+  double answer_up_to(double cap_m) {
+    while (!done_) {
+      if (seen_m_ >= cap_m) return cap_m;
+      step();
+    }
+    return std::min(cap_m, answer_m_);
+  }
+
+ private:
+  bool visible(double d_m) {
+    ++tests_;
+    const PlanePoint q = cursor_.at(d_m);
+    const double g = scene_.ground(q, eye_.ground_m);
+    return scene_.visible(eye_, Point3{q.x, q.y, g + p_.object_height_m, g});
+  }
+
+  const Scene& scene_;
+  PathCursor cursor_;
+  const Point3 eye_;
+  const SightParameters& p_;
+  std::size_t& tests_;
+  const double end_m_;
+  std::size_t k_ = 1;    ///< the next step
+  double seen_m_ = 0.0;  ///< the vehicle is seen at every position tried up to here
+  bool done_;
+  double answer_m_;
+};
+
+/// The smaller of the two kerbs' answers along one road direction (the robot may arrive on
+/// either side). The kerbs step out together, so that neither is followed further than the
+/// other's answer: searching one kerb after the other followed the first as far as it saw
+/// (300 m on an open road) even when the second stopped after 20 m. The answer is the same:
+/// min(a, b) whatever the order, every position tried by the same arithmetic.
+double worse_kerb_m(KerbSearch& a, KerbSearch& b) {
+  while (!a.done() && !b.done()) {
+    a.step();
+    if (!a.done()) b.step();
+  }
+  KerbSearch& finished = a.done() ? a : b;
+  KerbSearch& other = a.done() ? b : a;
+  return other.answer_up_to(finished.answer_m());
 }
 
 double required_sight_m(const Segment& s, const SightParameters& p) {
@@ -441,17 +366,21 @@ void sight_of_segment(const Context& c, Segment& s, std::size_t& tests) {
   const double len = std::max(1e-9, distance_m(a, b));
   const PlanePoint normal{-(b.y - a.y) / len, (b.x - a.x) / len};
   const double half_width_m = 0.5 * s.width_m.value_or(float(c.p.default_width_m));
-  double forward_m = c.p.range_m, backward_m = c.p.range_m;
-  for (const double side : {1.0, -1.0}) {
+  std::array<Point3, 2> eyes;  // the left kerb, then the right one
+  for (std::size_t i = 0; i < 2; ++i) {
+    const double side = i == 0 ? 1.0 : -1.0;
     const PlanePoint kerb{ahead.points[0].x + side * half_width_m * normal.x,
                           ahead.points[0].y + side * half_width_m * normal.y};
     // On a bridge the ground under the kerb is the valley: the structure's elevation counts.
     const double fallback = s.elevation_m.value_or(0.0f);
     const double g = s.bridge ? fallback : c.scene.ground(kerb, fallback);
-    const Point3 eye{kerb.x, kerb.y, g + c.p.sensor_height_m, g};
-    forward_m = std::min(forward_m, sight_along(c.scene, ahead, eye, c.p, forward_m, tests));
-    backward_m = std::min(backward_m, sight_along(c.scene, behind, eye, c.p, backward_m, tests));
+    eyes[i] = Point3{kerb.x, kerb.y, g + c.p.sensor_height_m, g};
   }
+  const auto worse_m = [&](const Path& path) {
+    KerbSearch left(c.scene, path, eyes[0], c.p, tests), right(c.scene, path, eyes[1], c.p, tests);
+    return worse_kerb_m(left, right);
+  };
+  const double forward_m = worse_m(ahead), backward_m = worse_m(behind);
   s.sight_forward_m = forward_m;
   s.sight_backward_m = backward_m;
   s.sight_min_m = std::min(forward_m, backward_m);
@@ -462,7 +391,8 @@ void sight_of_segment(const Context& c, Segment& s, std::size_t& tests) {
 }  // namespace
 
 SightReport compute_sight(RoadGraph& graph, const Grid* terrain,
-                          const std::vector<ObstacleEdge>& obstacles, const SightParameters& p) {
+                          std::vector<ObstacleEdge> obstacles, const SightParameters& p) {
+  sight_detail::sort_by_cell(obstacles);
   const Scene scene(terrain, obstacles);
   std::vector<std::vector<double>> cumulative;
   cumulative.reserve(graph.pieces.size());

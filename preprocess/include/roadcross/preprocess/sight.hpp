@@ -109,10 +109,10 @@ struct SightReport {
 
 /// Fills the sight fields of every segment (run after terrain and context). `terrain` is the
 /// elevation grid (nullptr: flat ground); road surface elevations are taken from it, and from
-/// elevation_m at the robot's own segment (bridges). Uses every core.
+/// elevation_m at the robot's own segment (bridges). Uses every core. Takes the edges (move
+/// them in: they are sorted by place, in place, and freed at the end).
 SightReport compute_sight(RoadGraph& graph, const Grid* terrain,
-                          const std::vector<ObstacleEdge>& obstacles,
-                          const SightParameters& parameters);
+                          std::vector<ObstacleEdge> obstacles, const SightParameters& parameters);
 
 /// In cost mode (limited_visibility_unsuitable = 0), adds rank_penalty to the rank of every
 /// LIMITED_VISIBILITY segment (clamped to 14) and recomputes its score; run after the ranks.

@@ -1,0 +1,280 @@
+// The sight stage's edge grid and crossing test (edge_grid.hpp): hand-made cases, plus two
+// checks against independent references — the tile-grouped grid against a plain set of cells
+// per edge, and the crossing test with its early rejects against the division form it replaced
+// (bit for bit, on random and near-degenerate edges).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <set>
+#include <utility>
+#include <vector>
+
+#include "roadcross/preprocess/edge_grid.hpp"
+
+namespace rp = roadcross::preprocess;
+namespace sd = roadcross::preprocess::sight_detail;
+using roadcross::schema::PlanePoint;
+
+namespace {
+
+rp::ObstacleEdge edge(double ax, double ay, double bx, double by) {
+  return {{ax, ay}, {bx, by}, 0.0f, 10.0f};
+}
+
+/// The edge indices any_along offers for a->b, in order (test never stops the walk).
+std::vector<std::uint32_t> offered(const sd::EdgeGrid& grid, PlanePoint a, PlanePoint b) {
+  std::vector<std::uint32_t> out;
+  grid.any_along(a, b, [&](std::uint32_t i) {
+    out.push_back(i);
+    return false;
+  });
+  return out;
+}
+
+using Cells = std::vector<std::pair<std::int64_t, std::int64_t>>;
+
+/// The cells of a->b as for_cells_along found them before floor_to_int, with std::floor (the
+/// reference the walk must equal cell for cell).
+Cells reference_cells(const PlanePoint& a, const PlanePoint& b, double cell_m) {
+  constexpr double kSlack = 1e-6;
+  const double ax = a.x / cell_m, ay = a.y / cell_m, bx = b.x / cell_m, by = b.y / cell_m;
+  const double y_min = std::min(ay, by), y_max = std::max(ay, by);
+  const bool up = by >= ay, right = bx >= ax;
+  const auto first_row =
+      static_cast<std::int64_t>(std::floor((up ? y_min : y_max) + (up ? -kSlack : kSlack)));
+  const auto last_row =
+      static_cast<std::int64_t>(std::floor((up ? y_max : y_min) + (up ? kSlack : -kSlack)));
+  Cells out;
+  for (std::int64_t row = first_row;; row += up ? 1 : -1) {
+    double x0 = std::min(ax, bx), x1 = std::max(ax, bx);
+    if (by != ay) {
+      const double t0 = std::clamp((double(row) - kSlack - ay) / (by - ay), 0.0, 1.0);
+      const double t1 = std::clamp((double(row + 1) + kSlack - ay) / (by - ay), 0.0, 1.0);
+      x0 = ax + t0 * (bx - ax);
+      x1 = ax + t1 * (bx - ax);
+      if (x0 > x1) std::swap(x0, x1);
+    }
+    const auto c0 = static_cast<std::int64_t>(std::floor(x0 - kSlack));
+    const auto c1 = static_cast<std::int64_t>(std::floor(x1 + kSlack));
+    if (right) {
+      for (std::int64_t c = c0; c <= c1; ++c) out.emplace_back(c, row);
+    } else {
+      for (std::int64_t c = c1; c >= c0; --c) out.emplace_back(c, row);
+    }
+    if (row == last_row) return out;
+  }
+}
+
+Cells cells_of_line(const PlanePoint& a, const PlanePoint& b) {
+  Cells out;
+  sd::for_cells_along(a, b, 16.0, [&](std::int64_t c, std::int64_t r) {
+    out.emplace_back(c, r);
+    return false;
+  });
+  return out;
+}
+
+/// The division form of the crossing test, as sight.cpp had it before the early rejects.
+double reference_crossing(const PlanePoint& e, const PlanePoint& t, const PlanePoint& a,
+                          const PlanePoint& b) {
+  const double rx = t.x - e.x, ry = t.y - e.y, sx = b.x - a.x, sy = b.y - a.y;
+  const double denom = rx * sy - ry * sx;
+  if (std::abs(denom) < 1e-12) return NAN;
+  const double qx = a.x - e.x, qy = a.y - e.y;
+  const double along_line = (qx * sy - qy * sx) / denom;
+  const double along_edge = (qx * ry - qy * rx) / denom;
+  if (along_line < 0.0 || along_line > 1.0 || along_edge < 0.0 || along_edge > 1.0) return NAN;
+  return along_line;
+}
+
+}  // namespace
+
+TEST(EdgeGrid, FloorToIntMatchesFloor) {
+  EXPECT_EQ(sd::floor_to_int(2.7), 2);
+  EXPECT_EQ(sd::floor_to_int(2.0), 2);
+  EXPECT_EQ(sd::floor_to_int(0.0), 0);
+  EXPECT_EQ(sd::floor_to_int(-0.0), 0);
+  EXPECT_EQ(sd::floor_to_int(-1e-300), -1);
+  EXPECT_EQ(sd::floor_to_int(-2.0), -2);
+  EXPECT_EQ(sd::floor_to_int(-1.5), -2);
+  EXPECT_EQ(sd::floor_to_int(312500.99999999994), 312500);
+}
+
+TEST(EdgeGrid, CellsOfAHorizontalLine) {
+  // Row 0, x from 1 to 40 m: columns 0, 1 and 2 of 16 m cells, in order from a; backwards
+  // from b the other way round.
+  std::vector<std::pair<std::int64_t, std::int64_t>> cells;
+  sd::for_cells_along({1.0, 5.0}, {40.0, 5.0}, 16.0, [&](std::int64_t c, std::int64_t r) {
+    cells.emplace_back(c, r);
+    return false;
+  });
+  EXPECT_EQ(cells, (std::vector<std::pair<std::int64_t, std::int64_t>>{{0, 0}, {1, 0}, {2, 0}}));
+  cells.clear();
+  sd::for_cells_along({40.0, 5.0}, {1.0, 5.0}, 16.0, [&](std::int64_t c, std::int64_t r) {
+    cells.emplace_back(c, r);
+    return false;
+  });
+  EXPECT_EQ(cells, (std::vector<std::pair<std::int64_t, std::int64_t>>{{2, 0}, {1, 0}, {0, 0}}));
+}
+
+TEST(EdgeGrid, CellsAreThoseOfTheStdFloorWalkEvenOnCellBoundaries) {
+  // UTM-sized coordinates: random lines, and lines through cell corners and along cell edges
+  // (their row ends fall on cell boundaries).
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::uniform_int_distribution<int> cells(-20, 20);
+  const double x0 = 731232.0, y0 = 4849872.0;  // multiples of 16
+  std::size_t compared = 0;
+  for (int k = 0; k < 20000; ++k) {
+    PlanePoint a{x0 + 300 * u(rng), y0 + 300 * u(rng)};
+    PlanePoint b{a.x + 300 * u(rng), a.y + 300 * u(rng)};
+    if (k % 3 == 1) {  // corner to corner
+      a = {x0 + 16.0 * cells(rng), y0 + 16.0 * cells(rng)};
+      b = {a.x + 16.0 * cells(rng), a.y + 16.0 * cells(rng)};
+    } else if (k % 3 == 2) {  // a corner to a point whose row crossings are at whole cells
+      a = {x0 + 16.0 * cells(rng), y0 + 16.0 * cells(rng)};
+      const int n = cells(rng);
+      b = {a.x + 16.0 * 3 * n, a.y + 16.0 * n + 5.0};
+    }
+    const Cells want = reference_cells(a, b, 16.0);
+    ASSERT_EQ(cells_of_line(a, b), want) << k;
+    compared += want.size();
+  }
+  EXPECT_GT(compared, 100000u);
+}
+
+TEST(EdgeGrid, OffersTheEdgesOfTheCellsAlongALineAcrossTiles) {
+  // Tiles are 16 cells = 256 m. Edge 0 in cell (0, 0); edge 1 in cell (20, 0) (the next tile);
+  // edge 2 in cell (-1, 0) (the tile west of the origin); edge 3 spans cells (5..6, 0); edge 4
+  // is in row 3 (y 48-64 m), off the line.
+  const std::vector<rp::ObstacleEdge> edges{edge(2, 2, 5, 5), edge(325, 1, 330, 8),
+                                            edge(-10, 3, -5, 3), edge(90, 4, 100, 4),
+                                            edge(20, 50, 30, 55)};
+  const sd::EdgeGrid grid(edges);
+  EXPECT_EQ(grid.tiles(), 3u);
+  EXPECT_EQ(grid.entries(), 6u);  // edge 3 is in two cells
+  // Along row 0 from x = -8 to 335: cells -1, 0, ..., 20 in that order; edge 3 in cells 5 and 6.
+  EXPECT_EQ(offered(grid, {-8, 8}, {335, 8}), (std::vector<std::uint32_t>{2, 0, 3, 3, 1}));
+  // From the other end, the other way round.
+  EXPECT_EQ(offered(grid, {335, 8}, {-8, 8}), (std::vector<std::uint32_t>{1, 3, 3, 0, 2}));
+  // A line from x = 40 to 79 (cells 2 to 4) passes no edge's cell.
+  EXPECT_TRUE(offered(grid, {40, 8}, {79, 8}).empty());
+  // The walk stops at the first edge the test accepts.
+  std::vector<std::uint32_t> seen;
+  EXPECT_TRUE(grid.any_along({-8, 8}, {335, 8}, [&](std::uint32_t i) {
+    seen.push_back(i);
+    return i == 3;
+  }));
+  EXPECT_EQ(seen, (std::vector<std::uint32_t>{2, 0, 3}));
+  // No edges at all: nothing offered.
+  const sd::EdgeGrid empty(std::vector<rp::ObstacleEdge>{});
+  EXPECT_TRUE(offered(empty, {0, 0}, {100, 100}).empty());
+}
+
+TEST(EdgeGrid, AgreesWithAPlainSetOfCellsPerEdge) {
+  // Random edges and lines around UTM-like coordinates (both signs of cell index): every edge
+  // offered once per cell the line and the edge share, in the cells' order along the line.
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> where(-600.0, 600.0), step(-40.0, 40.0);
+  std::vector<rp::ObstacleEdge> edges;
+  for (int i = 0; i < 3000; ++i) {
+    const double x = where(rng), y = where(rng);
+    edges.push_back(edge(x, y, x + step(rng), y + step(rng)));
+  }
+  std::vector<std::set<std::pair<std::int64_t, std::int64_t>>> cells_of(edges.size());
+  for (std::size_t i = 0; i < edges.size(); ++i) {
+    sd::for_cells_along(edges[i].a, edges[i].b, 16.0, [&](std::int64_t c, std::int64_t r) {
+      cells_of[i].insert({c, r});
+      return false;
+    });
+  }
+  const sd::EdgeGrid grid(edges);
+  std::uniform_real_distribution<double> reach(-300.0, 300.0);
+  for (int k = 0; k < 200; ++k) {
+    const PlanePoint a{where(rng), where(rng)};
+    const PlanePoint b{a.x + reach(rng), a.y + reach(rng)};
+    std::vector<std::uint32_t> expected;
+    sd::for_cells_along(a, b, 16.0, [&](std::int64_t c, std::int64_t r) {
+      for (std::size_t i = 0; i < edges.size(); ++i) {
+        if (cells_of[i].count({c, r})) expected.push_back(static_cast<std::uint32_t>(i));
+      }
+      return false;
+    });
+    ASSERT_EQ(offered(grid, a, b), expected) << "line " << k;
+  }
+}
+
+TEST(EdgeGrid, SortByCellOrdersByTileThenCellOfTheFirstEnd) {
+  // First ends: cell (18, 0) in tile (1, 0); cells (0, 0), (1, 0) and (0, 1) in tile (0, 0);
+  // cell (0, 18) in tile (0, 1) (tile row 1 comes after tile row 0); cell (-1, 0) in tile (-1, 0).
+  std::vector<rp::ObstacleEdge> edges{edge(300, 10, 0, 0), edge(5, 5, 0, 0),   edge(20, 3, 0, 0),
+                                      edge(3, 20, 0, 0),   edge(5, 300, 0, 0), edge(-3, 2, 0, 0)};
+  sd::sort_by_cell(edges);
+  std::vector<std::pair<double, double>> firsts;
+  for (const rp::ObstacleEdge& e : edges) firsts.emplace_back(e.a.x, e.a.y);
+  EXPECT_EQ(firsts, (std::vector<std::pair<double, double>>{
+                        {-3, 2}, {5, 5}, {20, 3}, {3, 20}, {300, 10}, {5, 300}}));
+}
+
+TEST(EdgeGrid, SurelyOutsideUnitRejectsOnlyQuotientsOutsideZeroOne) {
+  EXPECT_TRUE(sd::surely_outside_unit(-1.0, 2.0));  // -0.5
+  EXPECT_TRUE(sd::surely_outside_unit(3.0, -2.0));  // -1.5
+  EXPECT_TRUE(sd::surely_outside_unit(3.0, 2.0));   // 1.5
+  EXPECT_TRUE(sd::surely_outside_unit(-3.0, -2.0));
+  EXPECT_FALSE(sd::surely_outside_unit(-1.0, -2.0));  // 0.5
+  EXPECT_FALSE(sd::surely_outside_unit(0.0, 2.0));
+  EXPECT_FALSE(sd::surely_outside_unit(-0.0, 2.0));  // -0 is not below 0
+  EXPECT_FALSE(sd::surely_outside_unit(0.0, -2.0));
+  EXPECT_FALSE(sd::surely_outside_unit(2.0, 2.0));  // exactly 1
+  // Just above 1, within the margin: left to the division (which may round it to 1).
+  EXPECT_FALSE(sd::surely_outside_unit(2.0 * (1.0 + 1e-12), 2.0));
+}
+
+TEST(EdgeGrid, CrossingParameterByHand) {
+  const sd::PlanLine line({0, 0}, {10, 0});
+  EXPECT_DOUBLE_EQ(sd::crossing_parameter(line, {5, -1}, {5, 1}), 0.5);
+  EXPECT_DOUBLE_EQ(sd::crossing_parameter(line, {10, 0}, {10, 5}), 1.0);     // touches the target
+  EXPECT_DOUBLE_EQ(sd::crossing_parameter(line, {2, 3}, {2, 0}), 0.2);       // ends on the line
+  EXPECT_TRUE(std::isnan(sd::crossing_parameter(line, {5, 1}, {5, 2})));     // short of it
+  EXPECT_TRUE(std::isnan(sd::crossing_parameter(line, {12, -1}, {12, 1})));  // beyond the target
+  EXPECT_TRUE(std::isnan(sd::crossing_parameter(line, {-1, -1}, {-1, 1})));  // behind the eye
+  EXPECT_TRUE(std::isnan(sd::crossing_parameter(line, {1, 0}, {4, 0})));     // along it
+}
+
+TEST(EdgeGrid, CrossingParameterIsTheDivisionFormBitForBit) {
+  // UTM-sized coordinates; edges crossing, missing, touching at their ends and nearly parallel.
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const double x0 = 731234.56, y0 = 4849876.54;
+  int crossings = 0;
+  for (int k = 0; k < 200000; ++k) {
+    const PlanePoint e{x0 + 300 * u(rng), y0 + 300 * u(rng)};
+    const PlanePoint t{e.x + 300 * u(rng), e.y + 300 * u(rng)};
+    PlanePoint a{e.x + 300 * u(rng), e.y + 300 * u(rng)};
+    PlanePoint b{a.x + 20 * u(rng), a.y + 20 * u(rng)};
+    switch (k % 4) {
+      case 1:  // an end on the line
+        a = {e.x + 0.5 * (1 + u(rng)) * (t.x - e.x), e.y + 0.5 * (1 + u(rng)) * (t.y - e.y)};
+        break;
+      case 2:  // nearly parallel to the line, near it
+        a = {e.x + 0.3 * (t.x - e.x), e.y + 0.3 * (t.y - e.y) + 1e-9 * u(rng)};
+        b = {a.x + 0.5 * (t.x - e.x), a.y + 0.5 * (t.y - e.y) + 1e-9 * u(rng)};
+        break;
+      case 3:  // an end at the eye or the target
+        a = (k % 8 == 3) ? e : t;
+        break;
+      default:
+        break;
+    }
+    const double want = reference_crossing(e, t, a, b);
+    const double got = sd::crossing_parameter(sd::PlanLine(e, t), a, b);
+    crossings += std::isnan(want) ? 0 : 1;
+    ASSERT_EQ(std::isnan(got), std::isnan(want)) << k;
+    if (!std::isnan(want)) {
+      ASSERT_EQ(got, want) << k;
+    }
+  }
+  EXPECT_GT(crossings, 20000);  // the comparison saw many crossings, not only misses
+}
