@@ -89,24 +89,32 @@ class RasterLattice {
   }
 
   /// The raster coordinates of the centres of the cells of grid row `row` (NaN where PROJ
-  /// failed), `px.size()` = the grid's columns.
+  /// failed), `px.size()` = the grid's columns. Lattice cell by lattice cell, so that the
+  /// inner loop has fixed corners and vectorises; the same arithmetic as cell by cell.
   void row(std::size_t row, std::vector<float>& px, std::vector<float>& py) const {
     const std::size_t j = row / kStep;
     const double ty = double(row - j * kStep) / kStep;
-    for (std::size_t col = 0; col < px.size(); ++col) {
-      const std::size_t i = col / kStep;
-      const double tx = double(col - i * kStep) / kStep;
-      const auto lerp2 = [&](const std::vector<double>& v) {
-        const double a = v[j * cols_ + i], b = v[j * cols_ + i + 1];
-        const double c = v[(j + 1) * cols_ + i], d = v[(j + 1) * cols_ + i + 1];
-        return (a * (1 - tx) + b * tx) * (1 - ty) + (c * (1 - tx) + d * tx) * ty;
-      };
-      px[col] = static_cast<float>(lerp2(px_));
-      py[col] = static_cast<float>(lerp2(py_));
+    for (std::size_t i = 0; i * kStep < px.size(); ++i) {
+      const std::size_t first = i * kStep, n = std::min(kStep, px.size() - first);
+      interpolate(px_, j, i, ty, n, px.data() + first);
+      interpolate(py_, j, i, ty, n, py.data() + first);
     }
   }
 
  private:
+  /// Bilinear between lattice nodes (i, j) .. (i + 1, j + 1) at the first n of the kStep
+  /// cells of a row of lattice cell (i, j).
+  void interpolate(const std::vector<double>& v, std::size_t j, std::size_t i, double ty,
+                   std::size_t n, float* out) const {
+    const double a = v[j * cols_ + i], b = v[j * cols_ + i + 1];
+    const double c = v[(j + 1) * cols_ + i], d = v[(j + 1) * cols_ + i + 1];
+    for (std::size_t k = 0; k < n; ++k) {
+      const double tx = double(k) / kStep;
+      out[k] =
+          static_cast<float>((a * (1 - tx) + b * tx) * (1 - ty) + (c * (1 - tx) + d * tx) * ty);
+    }
+  }
+
   static constexpr std::size_t kStep = 16;
   std::size_t cols_;
   std::vector<double> px_, py_;  ///< at the lattice's nodes
@@ -126,11 +134,18 @@ PixelWindow window_of(const GridSpec& spec, const RasterLattice& lattice, int wi
   std::vector<float> px(spec.cols), py(spec.cols);
   for (std::size_t row = 0; row < spec.rows; ++row) {
     lattice.row(row, px, py);
+    // px and py are NaN together (a lattice node PROJ failed on); NaN compares false, so
+    // these minima and maxima skip them (branch-free, so that the loop vectorises).
+    float row_min_px = std::numeric_limits<float>::infinity(), row_max_px = -row_min_px;
+    float row_min_py = row_min_px, row_max_py = row_max_px;
     for (std::size_t col = 0; col < spec.cols; ++col) {
-      if (std::isnan(px[col])) continue;
-      min_px = std::min<double>(min_px, px[col]), max_px = std::max<double>(max_px, px[col]);
-      min_py = std::min<double>(min_py, py[col]), max_py = std::max<double>(max_py, py[col]);
+      row_min_px = px[col] < row_min_px ? px[col] : row_min_px;
+      row_max_px = px[col] > row_max_px ? px[col] : row_max_px;
+      row_min_py = py[col] < row_min_py ? py[col] : row_min_py;
+      row_max_py = py[col] > row_max_py ? py[col] : row_max_py;
     }
+    min_px = std::min<double>(min_px, row_min_px), max_px = std::max<double>(max_px, row_max_px);
+    min_py = std::min<double>(min_py, row_min_py), max_py = std::max<double>(max_py, row_max_py);
   }
   PixelWindow w;
   w.x0 = std::max(0, static_cast<int>(std::floor(min_px)));

@@ -124,6 +124,7 @@ class AnnulusTpi {
  private:
   float block_mean(std::size_t col, std::size_t row);
   float compute_block_mean(std::size_t col, std::size_t row) const;
+  bool at_block_centre(std::size_t col, std::size_t row) const;
   void allocate_cache();
 
   const Grid& elevation_;
