@@ -165,6 +165,22 @@ TEST(Terrain, TpiOfOneRaisedCellIsItsShareOfTheAnnulus) {
   EXPECT_FLOAT_EQ(again.at(40, 40), static_cast<float>(-100.0 / 304.0));
 }
 
+TEST(Terrain, LargeTpiAtABlockCentreIsItsOwnBlocksMean) {
+  // The large annulus (100..300 m on 5 m cells) runs on 15 m blocks; a cell at a block's centre
+  // takes that block's mean without interpolating. On a plane rising 0.1 m per metre east, the
+  // annulus mean around a block centre is the plane there, so the TPI of the centre cell is 0;
+  // the block one to the east or west would give -1.5 or +1.5 m.
+  rp::Grid grid = grid_of([](double e, double) { return 0.1 * (e - kE0); }, 1000.0);
+  ASSERT_EQ(grid.spec.cols, 400u);
+  rp::AnnulusTpi tpi(grid, 100.0, 300.0, 0.5);
+  for (const std::size_t block : {21u, 40u, 66u, 90u, 100u}) {
+    const std::size_t centre = 3 * block + 1;  // cells 3b..3b+2 form block b
+    EXPECT_NEAR(tpi.at(centre, 200), 0.0, 1e-3) << centre;
+    EXPECT_NEAR(tpi.at(200, centre), 0.0, 1e-3) << centre;
+    EXPECT_NEAR(tpi.at(centre + 1, 200), 0.0, 1e-3) << centre;  // between centres: bilinear
+  }
+}
+
 TEST(Terrain, TpiAtSingleCellsIsTheWholeGridsTpi) {
   // The build computes TPI only at the cells it samples (block means on demand); those cells
   // must hold exactly what the whole-grid computation gives, for the small annulus (cells) and
