@@ -25,8 +25,11 @@ with_dem=0
 # no -q: an early exit of grep would fail the pipe under pipefail
 if [[ "${BENCH_DEM:-1}" != 0 ]] && "$tool" --help | grep -- '--elevation' >/dev/null; then with_dem=1; fi
 
-# measure CMD...: prints "seconds peak_kib" of one run; its stdout goes to $work/stdout.
+# measure CMD...: prints "seconds peak_kib" of one run; its stdout goes to $work/stdout. The page
+# cache is synced first: at 200x the builds before it leave ~5 GB of output to write back, over
+# the kernel's dirty limit, and the next build's writing stage would wait for it.
 measure() {
+  sync
   /usr/bin/time -f '%e %M' -o "$work/time" "$@" >"$work/stdout" 2>"$work/stderr" || { cat "$work/stderr" >&2; return 1; }
   cat "$work/time"
 }
@@ -47,9 +50,11 @@ for n in $sizes; do
   read -r build_s build_kib < <(measure "$tool" --osm "$work/m$n.osm.pbf" -o "$work/m$n.gpkg" --json ${BENCH_BUILD_ARGS:-})
   stages "build"
   segments=$(sqlite3 "$work/m$n.gpkg" "SELECT count(*) FROM segments")
+  rm -f "$work/m$n.gpkg"  # each output goes as soon as it is measured (see measure)
   # shellcheck disable=SC2086
   read -r no_sight_s no_sight_kib < <(measure "$tool" --osm "$work/m$n.osm.pbf" -o "$work/m${n}ns.gpkg" --sight.enabled 0 --json ${BENCH_BUILD_ARGS:-})
   stages "--sight.enabled 0"
+  rm -f "$work/m${n}ns.gpkg"
   dem_s="" dem_kib=""
   if ((with_dem)); then
     # shellcheck disable=SC2086

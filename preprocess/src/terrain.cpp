@@ -1,11 +1,14 @@
 #include "roadcross/preprocess/terrain.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <exception>
 #include <limits>
+#include <mutex>
 #include <numbers>
 #include <numeric>
+#include <optional>
 #include <thread>
 
 #include "roadcross/preprocess/errors.hpp"
@@ -144,35 +147,69 @@ namespace {
 
 /// Per-row prefix sums of the sums and valid-cell counts of blocks of factor x factor cells
 /// (factor 1: the cells): block row r, block columns [a, b) sum to sum[r * stride + b] -
-/// sum[r * stride + a]. 12 bytes per block.
+/// sum[r * stride + a]. 12 bytes per block. The storage can come from an earlier tile's sums
+/// (TpiScratch): reused pages cost neither a page fault nor the kernel's zeroing.
 struct RowPrefixSums {
   std::size_t cols, rows, stride;
   std::vector<double> sum;
   std::vector<std::uint32_t> count;
 
-  RowPrefixSums(const Grid& grid, std::size_t factor)
+  RowPrefixSums(const Grid& grid, std::size_t factor, TpiScratch&& storage)
       : cols((grid.spec.cols + factor - 1) / factor),
         rows((grid.spec.rows + factor - 1) / factor),
         stride(cols + 1),
-        sum(rows * stride, 0.0),
-        count(rows * stride, 0) {
+        sum(std::move(storage.sums)),
+        count(std::move(storage.counts)) {
+    sum.resize(rows * stride);  // every element is written below
+    count.resize(rows * stride);
+    if (factor == 1) {
+      cell_rows(grid);
+    } else {
+      block_rows(grid, factor);
+    }
+  }
+
+  /// Factor 1: one pass a row. (0.0 + v is v: the same sums as block_rows would give.)
+  void cell_rows(const Grid& grid) {
+    for (std::size_t row = 0; row < rows; ++row) {
+      const float* cells = grid.values.data() + row * grid.spec.cols;
+      double* sums = sum.data() + row * stride;
+      std::uint32_t* counts = count.data() + row * stride;
+      sums[0] = 0.0, counts[0] = 0;
+      for (std::size_t col = 0; col < cols; ++col) {
+        const float v = cells[col];
+        const bool valid = !std::isnan(v);
+        sums[col + 1] = sums[col] + (valid ? 0.0 + v : 0.0);
+        counts[col + 1] = counts[col] + (valid ? 1u : 0u);
+      }
+    }
+  }
+
+  void block_rows(const Grid& grid, std::size_t factor) {
     std::vector<double> block_sum(cols);
     std::vector<std::uint32_t> block_count(cols);
     for (std::size_t row = 0; row < rows; ++row) {
       std::fill(block_sum.begin(), block_sum.end(), 0.0);
       std::fill(block_count.begin(), block_count.end(), 0);
-      // Each block's cells are added row by row, west to east.
+      // Each block's cells are added row by row, west to east (block by block: no division
+      // of the column by the factor per cell).
       for (std::size_t r = row * factor; r < std::min(grid.spec.rows, (row + 1) * factor); ++r) {
-        for (std::size_t col = 0; col < grid.spec.cols; ++col) {
-          const float v = grid.at(col, r);
-          if (std::isnan(v)) continue;
-          block_sum[col / factor] += v;
-          ++block_count[col / factor];
+        const float* cells = grid.values.data() + r * grid.spec.cols;
+        for (std::size_t block = 0; block < cols; ++block) {
+          const std::size_t end = std::min(grid.spec.cols, (block + 1) * factor);
+          for (std::size_t col = block * factor; col < end; ++col) {
+            if (std::isnan(cells[col])) continue;
+            block_sum[block] += cells[col];
+            ++block_count[block];
+          }
         }
       }
+      double* sums = sum.data() + row * stride;
+      std::uint32_t* counts = count.data() + row * stride;
+      sums[0] = 0.0, counts[0] = 0;
       for (std::size_t col = 0; col < cols; ++col) {
-        sum[row * stride + col + 1] = sum[row * stride + col] + block_sum[col];
-        count[row * stride + col + 1] = count[row * stride + col] + block_count[col];
+        sums[col + 1] = sums[col] + block_sum[col];
+        counts[col + 1] = counts[col] + block_count[col];
       }
     }
   }
@@ -243,26 +280,37 @@ struct TpiPrefixSums : RowPrefixSums {
 };
 
 AnnulusTpi::AnnulusTpi(const Grid& elevation, double inner_m, double outer_m,
-                       double min_valid_fraction)
+                       double min_valid_fraction, TpiScratch* scratch)
     : elevation_(elevation),
       factor_(block_factor(outer_m / elevation.spec.cell_m)),
-      prefix_(std::make_unique<TpiPrefixSums>(elevation, factor_)),
+      scratch_(scratch),
+      prefix_(std::make_unique<TpiPrefixSums>(elevation, factor_,
+                                              scratch ? std::move(*scratch) : TpiScratch{})),
       outer_(disc_half_widths(outer_m / (elevation.spec.cell_m * double(factor_)))),
       inner_(disc_half_widths(inner_m / (elevation.spec.cell_m * double(factor_)))),
       min_valid_fraction_(min_valid_fraction),
-      block_mean_([&] {
-        GridSpec block_spec = elevation.spec;
-        block_spec.cell_m = elevation.spec.cell_m * double(factor_);
-        block_spec.cols = prefix_->cols;
-        block_spec.rows = prefix_->rows;
-        return Grid(block_spec);
-      }()),
-      known_(block_mean_.values.size(), 0) {
+      block_spec_(elevation.spec) {
+  block_spec_.cell_m = elevation.spec.cell_m * double(factor_);
+  block_spec_.cols = prefix_->cols;
+  block_spec_.rows = prefix_->rows;
   full_annulus_ =
       double(disc_cell_count(outer_) - disc_cell_count(inner_)) * double(factor_ * factor_);
+  // A block mean is interpolated into many cells: worth keeping. A cell's mean (factor 1) is
+  // asked about once (a lattice cell, or one of a segment's four).
+  if (factor_ > 1) allocate_cache();
 }
 
-AnnulusTpi::~AnnulusTpi() = default;
+AnnulusTpi::~AnnulusTpi() {
+  if (scratch_) {
+    scratch_->sums = std::move(prefix_->sum);
+    scratch_->counts = std::move(prefix_->count);
+  }
+}
+
+void AnnulusTpi::allocate_cache() {
+  block_mean_.assign(block_spec_.size(), std::numeric_limits<float>::quiet_NaN());
+  known_.assign(block_spec_.size(), 0);
+}
 
 float AnnulusTpi::compute_block_mean(std::size_t col, std::size_t row) const {
   double outer_sum = 0.0, inner_sum = 0.0;
@@ -277,19 +325,33 @@ float AnnulusTpi::compute_block_mean(std::size_t col, std::size_t row) const {
 }
 
 float AnnulusTpi::block_mean(std::size_t col, std::size_t row) {
-  const std::size_t k = row * block_mean_.spec.cols + col;
-  if (!known_[k]) block_mean_.values[k] = compute_block_mean(col, row), known_[k] = 1;
-  return block_mean_.values[k];
+  if (known_.empty()) return compute_block_mean(col, row);
+  const std::size_t k = row * block_spec_.cols + col;
+  if (!known_[k]) block_mean_[k] = compute_block_mean(col, row), known_[k] = 1;
+  return block_mean_[k];
 }
 
 void AnnulusTpi::compute_all() {
-  const std::size_t cols = block_mean_.spec.cols;
-  for_rows_on_two_cores(block_mean_.spec.rows, [&](std::size_t row) {
+  if (known_.empty()) allocate_cache();
+  const std::size_t cols = block_spec_.cols;
+  for_rows_on_two_cores(block_spec_.rows, [&](std::size_t row) {
     for (std::size_t col = 0; col < cols; ++col) {
-      block_mean_.at(col, row) = compute_block_mean(col, row);
+      block_mean_[row * cols + col] = compute_block_mean(col, row);
       known_[row * cols + col] = 1;
     }
   });
+}
+
+bool AnnulusTpi::at_block_centre(std::size_t col, std::size_t row) const {
+  // bilinear()'s own block coordinates. Whole numbers: the bilinear weights are exactly 1 for
+  // the own block and 0 for the others (or, at the grid's last block, the own block's mean is
+  // taken), so the result is the own block's mean whatever the neighbours hold (a NaN among
+  // them falls back to it too): the neighbours need not be computed. The large TPI's lattice
+  // cells all lie at block centres: this saves three of the four block means of each.
+  const GridSpec& s = elevation_.spec;
+  const double fx = (s.centre_easting(col) - block_spec_.west_m) / block_spec_.cell_m - 0.5;
+  const double fy = (s.centre_northing(row) - block_spec_.south_m) / block_spec_.cell_m - 0.5;
+  return fx == std::floor(fx) && fy == std::floor(fy);
 }
 
 float AnnulusTpi::at(std::size_t col, std::size_t row) {
@@ -297,10 +359,10 @@ float AnnulusTpi::at(std::size_t col, std::size_t row) {
   const float z = elevation_.at(col, row);
   if (std::isnan(z)) return z;
   double mean = block_mean(col / factor_, row / factor_);
-  if (factor_ > 1) {
+  if (factor_ > 1 && !at_block_centre(col, row)) {
     // Between block centres: bilinear; next to a block without a mean, the own block's.
     const double between =
-        bilinear(block_mean_.spec, s.centre_easting(col), s.centre_northing(row),
+        bilinear(block_spec_, s.centre_easting(col), s.centre_northing(row),
                  [this](std::size_t c, std::size_t r) { return block_mean(c, r); });
     if (!std::isnan(between)) mean = between;
   }
@@ -595,23 +657,32 @@ struct TileLayout {
 };
 
 /// Copies the cells of `stored` that the tile owns from the tile's grid (bilinear: exact where
-/// the cells coincide, i.e. when stored at full resolution).
+/// the cells coincide, i.e. when stored at full resolution). Only the stored cells over the
+/// tile's grid are visited (the others would sample NaN, which they hold already): visiting
+/// whole rows of the map for every tile made this the slowest part of a tile at 10x Monaco.
 template <typename Owns>
 void copy_owned(const Grid& tile, const Owns& owns, Grid& stored) {
   const GridSpec& g = stored.spec;
+  // Stored columns around the tile's grid, with one column to spare each side for rounding.
+  const double first = std::floor((tile.spec.west_m - g.west_m) / g.cell_m) - 1.0;
+  const double last = std::ceil((tile.spec.east_m() - g.west_m) / g.cell_m) + 1.0;
+  const auto col_begin = static_cast<std::size_t>(std::clamp(first, 0.0, double(g.cols)));
+  const auto col_end = static_cast<std::size_t>(std::clamp(last, 0.0, double(g.cols)));
   for (std::size_t row = 0; row < g.rows; ++row) {
     const double y = g.centre_northing(row);
     if (y < tile.spec.south_m || y > tile.spec.north_m()) continue;
-    for (std::size_t col = 0; col < g.cols; ++col) {
+    for (std::size_t col = col_begin; col < col_end; ++col) {
       const double x = g.centre_easting(col);
+      if (x < tile.spec.west_m || x > tile.spec.east_m()) continue;
       if (owns(x, y)) stored.at(col, row) = static_cast<float>(tile.sample(x, y));
     }
   }
 }
 
 /// TPI of one annulus on one tile, computed only where it is needed: at the cells of the
-/// statistics' lattice that the tile owns (added to `stats`) and at the four cells around each
-/// segment's midpoint (bilinear, exactly as sampling a whole TPI grid).
+/// statistics' lattice that the tile owns (their values appended to `lattice_tpi_m`, row by
+/// row, NaN left out) and at the four cells around each segment's midpoint (bilinear, exactly
+/// as sampling a whole TPI grid).
 struct TileTpi {
   const Grid& elevation;
   const std::vector<char>& col_owned;
@@ -619,7 +690,7 @@ struct TileTpi {
   long long col0, row0;  ///< the tile's cell (0, 0) in the whole grid
   long long step, offset;
 
-  void run(AnnulusTpi& annulus, RunningStatistics& stats, const RoadGraph& graph,
+  void run(AnnulusTpi& annulus, std::vector<float>& lattice_tpi_m, const RoadGraph& graph,
            const std::vector<std::size_t>& segments, std::vector<TerrainSample>& samples,
            float TerrainSample::*field) const {
     const GridSpec& g = elevation.spec;
@@ -627,7 +698,8 @@ struct TileTpi {
       if (!row_owned[row] || (static_cast<long long>(row) + row0) % step != offset) continue;
       for (std::size_t col = 0; col < g.cols; ++col) {
         if (col_owned[col] && (static_cast<long long>(col) + col0) % step == offset) {
-          stats.add(annulus.at(col, row));
+          const float tpi_m = annulus.at(col, row);
+          if (!std::isnan(tpi_m)) lattice_tpi_m.push_back(tpi_m);
         }
       }
     }
@@ -645,6 +717,229 @@ constexpr double kMinStatisticsCells = 250e3;
 /// Cells of the grid kept in the DB: the terrain at the analysis resolution, or coarser by a
 /// whole factor when that would exceed this many cells (a country at 5 m would be billions).
 constexpr double kStoredGridMaxCells = 40e6;
+
+/// The grid of each tile: the tile's core, clipped to the roads' box (its cells are the tile's
+/// share of the statistics and of the stored grid), plus the halo.
+struct TileGrids {
+  geo::UtmZone zone;
+  Bounds roads;
+  TileLayout layout;
+  double halo_m, cell_m, align_m;
+
+  GridSpec operator()(std::size_t tile) const {
+    const double tile_w = layout.west_m + double(tile % layout.cols) * layout.size_m;
+    const double tile_s = layout.south_m + double(tile / layout.cols) * layout.size_m;
+    const double core_w = std::max(tile_w, roads.min_e), core_s = std::max(tile_s, roads.min_n);
+    const double core_e = std::min(tile_w + layout.size_m, roads.max_e);
+    const double core_n = std::min(tile_s + layout.size_m, roads.max_n);
+    return grid_covering(zone, core_w, core_s, core_e, core_n, halo_m, cell_m, align_m);
+  }
+};
+
+/// What one tile adds to the whole map's totals. The TPI values at its statistics' lattice are
+/// kept in order and summed in tile order (InOrderMerge), so that the TPI means and SDs, and so
+/// the landforms, are the same bits whichever thread finishes a tile first.
+struct TileResult {
+  std::vector<float> small_lattice_tpi_m, large_lattice_tpi_m;
+  std::vector<std::size_t> cells_per_source;
+  std::size_t voids_filled = 0, cells_with_elevation = 0;
+};
+
+/// Hands the tiles' results to `merge` in tile order (positions 0, 1, ...) whatever order they
+/// arrive in; a result waits here until those before it came. Thread-safe.
+class InOrderMerge {
+ public:
+  explicit InOrderMerge(std::size_t count) : pending_(count) {}
+
+  template <typename Merge>
+  void add(std::size_t position, TileResult result, const Merge& merge) {
+    const std::lock_guard lock(mutex_);
+    pending_[position] = std::move(result);
+    for (; next_ < pending_.size() && pending_[next_]; ++next_) {
+      merge(*pending_[next_]);
+      pending_[next_].reset();
+    }
+  }
+
+ private:
+  std::mutex mutex_;
+  std::vector<std::optional<TileResult>> pending_;
+  std::size_t next_ = 0;
+};
+
+/// What a thread keeps from tile to tile: its rasters, opened at their first tile (GDAL datasets
+/// are not thread-safe, and opening one per tile cost a GDALOpen and a PROJ set-up each time),
+/// and the storage of the TPI prefix sums.
+struct ThreadState {
+  std::vector<std::unique_ptr<RasterElevation>> rasters;  ///< per source; null: not a raster
+  TpiScratch tpi;
+};
+
+/// One tile's analysis, start to end on one thread: the tiles run two at a time, one per core,
+/// so that no part of a tile (the void fill, the per-segment sampling, the copy into the stored
+/// grid) leaves a core idle. Tiles write only their own segments' samples and their own cells
+/// of the stored grid.
+struct TileJob {
+  const RoadGraph& graph;
+  const TerrainInputs& inputs;
+  const TerrainParameters& p;
+  const GridSpec& whole;  ///< the whole terrain grid
+  const TileGrids& grids;
+  const std::vector<std::vector<std::size_t>>& segments_of_tile;
+  long long small_step, large_step, large_offset;  ///< the statistics' lattices, cells
+  XyzTileBins& xyz_bins;
+  std::mutex& xyz_mutex;
+  Grid& stored;
+  std::vector<TerrainSample>& samples;
+
+  TileResult run(std::size_t tile, ThreadState& thread) const;
+
+ private:
+  void fill_elevation(std::size_t tile, Grid& elevation, ThreadState& thread,
+                      TileResult& out) const;
+  void sample_elevation(const Grid& elevation, const std::vector<std::size_t>& segments) const;
+  void store(std::size_t tile, const Grid& elevation, const std::vector<char>& col_owned,
+             const std::vector<char>& row_owned) const;
+};
+
+void TileJob::fill_elevation(std::size_t tile, Grid& elevation, ThreadState& thread,
+                             TileResult& out) const {
+  // In the order given; all XYZ files form one TIN, filled at the place of the first of them.
+  bool xyz_done = false;
+  for (std::size_t k = 0; k < inputs.sources.size(); ++k) {
+    const ElevationSource& source = inputs.sources[k];
+    if (source.kind == ElevationKind::raster) {
+      if (thread.rasters.size() <= k) thread.rasters.resize(inputs.sources.size());
+      auto& raster = thread.rasters[k];
+      if (!raster) raster = std::make_unique<RasterElevation>(source.path, graph.zone);
+      out.cells_per_source[k] += raster->fill(elevation);
+    } else if (!xyz_done) {
+      std::vector<ElevationPoint> points;
+      {
+        const std::lock_guard lock(xyz_mutex);  // take() may read the shared spill file
+        points = xyz_bins.take(tile);
+      }
+      out.cells_per_source[k] += fill_from_points(elevation, points, p.tin_max_edge_m);
+      xyz_done = true;
+    }
+  }
+}
+
+void TileJob::sample_elevation(const Grid& elevation,
+                               const std::vector<std::size_t>& segments) const {
+  // Elevations and slope (Horn's, at the four cells around the midpoint).
+  for (const std::size_t i : segments) {
+    const Segment& s = graph.segments[i];
+    const PlanePoint mid = segment_midpoint(graph, s);
+    TerrainSample& t = samples[i];
+    t.z_mid_m = static_cast<float>(elevation.sample(mid.x, mid.y));
+    const std::span<const PlanePoint> line = graph.line(s);
+    t.z_start_m = static_cast<float>(elevation.sample(line.front().x, line.front().y));
+    t.z_end_m = static_cast<float>(elevation.sample(line.back().x, line.back().y));
+    t.slope_deg = static_cast<float>(
+        bilinear(elevation.spec, mid.x, mid.y,
+                 [&](std::size_t c, std::size_t r) { return slope_at(elevation, c, r); }));
+  }
+}
+
+void TileJob::store(std::size_t tile, const Grid& elevation, const std::vector<char>& col_owned,
+                    const std::vector<char>& row_owned) const {
+  const GridSpec& g = elevation.spec;
+  if (stored.spec.cell_m != g.cell_m) {
+    const auto owns = [&](double e, double n) {
+      return e >= whole.west_m && e < whole.east_m() && n >= whole.south_m && n < whole.north_m() &&
+             grids.layout.tile_of({e, n}) == tile;
+    };
+    copy_owned(elevation, owns, stored);
+    return;
+  }
+  // Same cells: copied as they are.
+  const auto stored_col0 = std::llround((g.west_m - stored.spec.west_m) / g.cell_m);
+  const auto stored_row0 = std::llround((g.south_m - stored.spec.south_m) / g.cell_m);
+  for (std::size_t row = 0; row < g.rows; ++row) {
+    if (!row_owned[row]) continue;
+    for (std::size_t col = 0; col < g.cols; ++col) {
+      if (!col_owned[col]) continue;
+      stored.at(static_cast<std::size_t>(static_cast<long long>(col) + stored_col0),
+                static_cast<std::size_t>(static_cast<long long>(row) + stored_row0)) =
+          elevation.at(col, row);
+    }
+  }
+}
+
+TileResult TileJob::run(std::size_t tile, ThreadState& thread) const {
+  TileResult out;
+  out.cells_per_source.assign(inputs.sources.size(), 0);
+  Grid elevation(grids(tile));
+  fill_elevation(tile, elevation, thread, out);
+  out.voids_filled = fill_voids(elevation, p.void_fill_max_m);
+  // The tile's own cells: those of the whole grid whose centres fall in this tile (the outer
+  // tiles reach to the whole grid's edge). Each cell counts once in the statistics and is
+  // stored once. Ownership is by column and by row.
+  const GridSpec& g = elevation.spec;
+  const std::size_t tile_col = tile % grids.layout.cols, tile_row = tile / grids.layout.cols;
+  std::vector<char> col_owned(g.cols), row_owned(g.rows);
+  for (std::size_t col = 0; col < g.cols; ++col) {
+    const double e = g.centre_easting(col);
+    col_owned[col] =
+        e >= whole.west_m && e < whole.east_m() && grids.layout.tile_col(e) == tile_col;
+  }
+  for (std::size_t row = 0; row < g.rows; ++row) {
+    const double n = g.centre_northing(row);
+    row_owned[row] =
+        n >= whole.south_m && n < whole.north_m() && grids.layout.tile_row(n) == tile_row;
+  }
+  // The tile's cell (col, row) is the whole grid's (col + col0, row + row0): both grids start
+  // on multiples of align_m.
+  const auto col0 = std::llround((g.west_m - whole.west_m) / g.cell_m);
+  const auto row0 = std::llround((g.south_m - whole.south_m) / g.cell_m);
+  const std::vector<std::size_t>& segments = segments_of_tile[tile];
+  {  // one annulus at a time: each has its own prefix sums and block means
+    AnnulusTpi small(elevation, p.tpi_small_inner_m, p.tpi_small_outer_m, p.tpi_min_valid_fraction,
+                     &thread.tpi);
+    TileTpi{elevation, col_owned, row_owned, col0, row0, small_step, 0}.run(
+        small, out.small_lattice_tpi_m, graph, segments, samples, &TerrainSample::tpi_small_m);
+  }
+  {
+    AnnulusTpi large(elevation, p.tpi_large_inner_m, p.tpi_large_outer_m, p.tpi_min_valid_fraction,
+                     &thread.tpi);
+    TileTpi{elevation, col_owned, row_owned, col0, row0, large_step, large_offset}.run(
+        large, out.large_lattice_tpi_m, graph, segments, samples, &TerrainSample::tpi_large_m);
+  }
+  for (std::size_t row = 0; row < g.rows; ++row) {
+    if (!row_owned[row]) continue;
+    for (std::size_t col = 0; col < g.cols; ++col) {
+      if (col_owned[col]) out.cells_with_elevation += std::isnan(elevation.at(col, row)) ? 0 : 1;
+    }
+  }
+  sample_elevation(elevation, segments);
+  store(tile, elevation, col_owned, row_owned);
+  return out;
+}
+
+/// Runs job(k, state) for k in [0, count) on two threads, each with its own ThreadState, taking
+/// the next k as it finishes one; the first exception stops both and is rethrown.
+template <typename Job>
+void run_on_two_cores(std::size_t count, const Job& job) {
+  std::atomic<std::size_t> next{0};
+  std::atomic<bool> failed{false};
+  std::exception_ptr errors[2];
+  const auto worker = [&](int thread) {
+    try {
+      ThreadState state;
+      for (std::size_t k; !failed && (k = next++) < count;) job(k, state);
+    } catch (...) {
+      errors[thread] = std::current_exception();
+      failed = true;
+    }
+  };
+  std::thread other(worker, 1);
+  worker(0);
+  other.join();
+  for (const std::exception_ptr& e : errors) {
+    if (e) std::rethrow_exception(e);
+  }
+}
 
 }  // namespace
 
@@ -672,6 +967,7 @@ TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
   for (std::size_t i = 0; i < graph.segments.size(); ++i) {
     segments_of_tile[layout.tile_of(segment_midpoint(graph, graph.segments[i]))].push_back(i);
   }
+  const TileGrids grids{graph.zone, roads, layout, halo_m, p.cell_size_m, align_m};
 
   const std::size_t factor = std::max<std::size_t>(
       1, static_cast<std::size_t>(
@@ -683,23 +979,12 @@ TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
   for (const ElevationSource& s : inputs.sources) {
     if (s.kind == ElevationKind::xyz) xyz_files.push_back(&s);
   }
-  // The tile's core, clipped to the roads' box (its cells are the tile's share of the
-  // statistics and of the stored grid), and its grid: the core plus the halo.
-  const auto tile_grid = [&](std::size_t tile) {
-    const double tile_w = layout.west_m + double(tile % layout.cols) * layout.size_m;
-    const double tile_s = layout.south_m + double(tile / layout.cols) * layout.size_m;
-    const double core_w = std::max(tile_w, roads.min_e), core_s = std::max(tile_s, roads.min_n);
-    const double core_e = std::min(tile_w + layout.size_m, roads.max_e);
-    const double core_n = std::min(tile_s + layout.size_m, roads.max_n);
-    return grid_covering(graph.zone, core_w, core_s, core_e, core_n, halo_m, p.cell_size_m,
-                         align_m);
-  };
   // XYZ points go to the tiles whose grid, grown by one longest TIN edge, holds them: exactly
   // the points fill_from_points would take from all of them.
   std::vector<UtmBox> xyz_boxes(segments_of_tile.size(), UtmBox{1.0, 1.0, 0.0, 0.0});
   for (std::size_t tile = 0; tile < segments_of_tile.size() && !xyz_files.empty(); ++tile) {
     if (segments_of_tile[tile].empty()) continue;
-    const GridSpec g = tile_grid(tile);
+    const GridSpec g = grids(tile);
     xyz_boxes[tile] = {g.west_m - p.tin_max_edge_m, g.south_m - p.tin_max_edge_m,
                        g.east_m() + p.tin_max_edge_m, g.north_m() + p.tin_max_edge_m};
   }
@@ -718,7 +1003,6 @@ TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
   std::vector<std::size_t> cells_per_source(inputs.sources.size(), 0);
   std::vector<TerrainSample> samples(graph.segments.size());
   RunningStatistics small_stats, large_stats;
-  std::size_t tiles_done = 0, tiles_total = 0;
   // The statistics' lattice: every statistics_step-th cell each way, finer on small grids so
   // that it still holds kMinStatisticsCells (a map of a few km is then exact, and cheap).
   const auto statistics_step = std::max<long long>(
@@ -735,109 +1019,37 @@ TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
                            : (3 * statistics_step + large_factor - 1) / large_factor * large_factor;
   const long long large_offset = statistics_step == 1 ? 0 : large_factor / 2;
   const long long small_step = statistics_step;
-  for (const auto& tile_segments : segments_of_tile) tiles_total += tile_segments.empty() ? 0 : 1;
 
+  std::vector<std::size_t> tiles;  // those with segments, in tile order
   for (std::size_t tile = 0; tile < segments_of_tile.size(); ++tile) {
-    if (segments_of_tile[tile].empty()) continue;
-    Grid elevation(tile_grid(tile));
-    // In the order given; all XYZ files form one TIN, filled at the place of the first of them.
-    bool xyz_done = false;
-    for (std::size_t k = 0; k < inputs.sources.size(); ++k) {
-      if (inputs.sources[k].kind == ElevationKind::raster) {
-        cells_per_source[k] += fill_from_raster(elevation, inputs.sources[k].path);
-      } else if (!xyz_done) {
-        cells_per_source[k] += fill_from_points(elevation, xyz_bins.take(tile), p.tin_max_edge_m);
-        xyz_done = true;
-      }
-    }
-    report.voids_filled += fill_voids(elevation, p.void_fill_max_m);
-    // The tile's own cells: those of the whole grid whose centres fall in this tile (the outer
-    // tiles reach to the whole grid's edge). Each cell counts once in the statistics and is
-    // stored once. Ownership is by column and by row.
-    const GridSpec& g = elevation.spec;
-    const std::size_t tile_col = tile % layout.cols, tile_row = tile / layout.cols;
-    std::vector<char> col_owned(g.cols), row_owned(g.rows);
-    for (std::size_t col = 0; col < g.cols; ++col) {
-      const double e = g.centre_easting(col);
-      col_owned[col] =
-          e >= report.grid.west_m && e < report.grid.east_m() && layout.tile_col(e) == tile_col;
-    }
-    for (std::size_t row = 0; row < g.rows; ++row) {
-      const double n = g.centre_northing(row);
-      row_owned[row] =
-          n >= report.grid.south_m && n < report.grid.north_m() && layout.tile_row(n) == tile_row;
-    }
-    // The tile's cell (col, row) is the whole grid's (col + col0, row + row0): both grids start
-    // on multiples of align_m.
-    const auto col0 = std::llround((g.west_m - report.grid.west_m) / g.cell_m);
-    const auto row0 = std::llround((g.south_m - report.grid.south_m) / g.cell_m);
-    // The two annuli on the two cores: each has its own prefix sums and block means.
-    const std::vector<std::size_t>& tile_segments = segments_of_tile[tile];
-    const TileTpi small_tpi{elevation, col_owned, row_owned, col0, row0, small_step, 0};
-    const TileTpi large_tpi{elevation, col_owned, row_owned, col0, row0, large_step, large_offset};
-    std::exception_ptr small_error;
-    std::thread small_thread([&] {
-      try {
-        AnnulusTpi small(elevation, p.tpi_small_inner_m, p.tpi_small_outer_m,
-                         p.tpi_min_valid_fraction);
-        small_tpi.run(small, small_stats, graph, tile_segments, samples,
-                      &TerrainSample::tpi_small_m);
-      } catch (...) {
-        small_error = std::current_exception();
-      }
-    });
-    try {
-      AnnulusTpi large(elevation, p.tpi_large_inner_m, p.tpi_large_outer_m,
-                       p.tpi_min_valid_fraction);
-      large_tpi.run(large, large_stats, graph, tile_segments, samples, &TerrainSample::tpi_large_m);
-    } catch (...) {
-      small_thread.join();
-      throw;
-    }
-    small_thread.join();
-    if (small_error) std::rethrow_exception(small_error);
-    for (std::size_t row = 0; row < g.rows; ++row) {
-      if (!row_owned[row]) continue;
-      for (std::size_t col = 0; col < g.cols; ++col) {
-        if (col_owned[col])
-          report.cells_with_elevation += std::isnan(elevation.at(col, row)) ? 0 : 1;
-      }
-    }
-    // Elevations and slope (Horn's, at the four cells around the midpoint).
-    for (const std::size_t i : tile_segments) {
-      const Segment& s = graph.segments[i];
-      const PlanePoint mid = segment_midpoint(graph, s);
-      TerrainSample& t = samples[i];
-      t.z_mid_m = static_cast<float>(elevation.sample(mid.x, mid.y));
-      const std::span<const PlanePoint> line = graph.line(s);
-      t.z_start_m = static_cast<float>(elevation.sample(line.front().x, line.front().y));
-      t.z_end_m = static_cast<float>(elevation.sample(line.back().x, line.back().y));
-      t.slope_deg = static_cast<float>(bilinear(g, mid.x, mid.y, [&](std::size_t c, std::size_t r) {
-        return slope_at(elevation, c, r);
-      }));
-    }
-    if (stored.spec.cell_m == g.cell_m) {
-      // Same cells: copied as they are.
-      const auto stored_col0 = std::llround((g.west_m - stored.spec.west_m) / g.cell_m);
-      const auto stored_row0 = std::llround((g.south_m - stored.spec.south_m) / g.cell_m);
-      for (std::size_t row = 0; row < g.rows; ++row) {
-        if (!row_owned[row]) continue;
-        for (std::size_t col = 0; col < g.cols; ++col) {
-          if (!col_owned[col]) continue;
-          stored.at(static_cast<std::size_t>(static_cast<long long>(col) + stored_col0),
-                    static_cast<std::size_t>(static_cast<long long>(row) + stored_row0)) =
-              elevation.at(col, row);
-        }
-      }
-    } else {
-      const auto owns = [&](double e, double n) {
-        return e >= report.grid.west_m && e < report.grid.east_m() && n >= report.grid.south_m &&
-               n < report.grid.north_m() && layout.tile_of({e, n}) == tile;
-      };
-      copy_owned(elevation, owns, stored);
-    }
-    progress.update(++tiles_done, tiles_total);
+    if (!segments_of_tile[tile].empty()) tiles.push_back(tile);
   }
+  // Largest tiles first, so that the two threads run out of work at about the same time.
+  std::vector<std::size_t> order(tiles.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return grids(tiles[a]).size() > grids(tiles[b]).size();
+  });
+  std::mutex xyz_mutex;
+  const TileJob job{
+      graph,      inputs,       p,        report.grid, grids,  segments_of_tile, small_step,
+      large_step, large_offset, xyz_bins, xyz_mutex,   stored, samples};
+  InOrderMerge merge(tiles.size());
+  std::size_t tiles_done = 0;
+  const auto add_to_totals = [&](const TileResult& r) {
+    for (const float v : r.small_lattice_tpi_m) small_stats.add(v);
+    for (const float v : r.large_lattice_tpi_m) large_stats.add(v);
+    for (std::size_t k = 0; k < cells_per_source.size(); ++k) {
+      cells_per_source[k] += r.cells_per_source[k];
+    }
+    report.voids_filled += r.voids_filled;
+    report.cells_with_elevation += r.cells_with_elevation;
+    progress.update(++tiles_done, tiles.size());
+  };
+  run_on_two_cores(order.size(), [&](std::size_t k, ThreadState& thread) {
+    merge.add(order[k], job.run(tiles[order[k]], thread), add_to_totals);
+  });
+  const std::size_t tiles_total = tiles.size();
   bool xyz_reported = false;  // the TIN of all XYZ files is counted at the first of them
   for (std::size_t k = 0; k < inputs.sources.size(); ++k) {
     if (inputs.sources[k].kind == ElevationKind::xyz) {

@@ -10,10 +10,10 @@
 #include <algorithm>
 #include <array>
 #include <memory>
+#include <mutex>
 #include <utility>
 
 #include "roadcross/preprocess/errors.hpp"
-#include "two_cores.hpp"
 
 namespace roadcross::preprocess {
 
@@ -51,144 +51,226 @@ std::string gdal_message() {
   return message && *message ? std::string(" (GDAL: ") + message + ")" : std::string();
 }
 
-/// Raster coordinates (fractional pixel column/row of pixel centres) of every grid cell centre.
+/// Makes GDAL's messages go into our errors (which name the file), not raw onto stderr, for the
+/// lifetime of the guard (GDAL's handler stack is per thread).
+struct QuietGdal {
+  QuietGdal() { CPLPushErrorHandler(CPLQuietErrorHandler); }
+  ~QuietGdal() { CPLPopErrorHandler(); }
+  QuietGdal(const QuietGdal&) = delete;
+  QuietGdal& operator=(const QuietGdal&) = delete;
+};
+
+/// Raster coordinates (fractional pixel column/row of pixel centres) of grid cell centres.
 /// PROJ is called on a lattice of every kStep-th cell only and the rest interpolated linearly:
 /// over kStep * cell_m (80 m by default) the transformation is linear to well below a millimetre.
-void raster_coordinates(const GridSpec& spec, OGRCoordinateTransformation& utm_to_raster,
-                        const std::array<double, 6>& inverse_geotransform, std::vector<float>& px,
-                        std::vector<float>& py) {
-  constexpr std::size_t kStep = 16;
-  const std::size_t lattice_cols = (spec.cols + kStep - 1) / kStep + 1;
-  const std::size_t lattice_rows = (spec.rows + kStep - 1) / kStep + 1;
-  std::vector<double> lx(lattice_cols * lattice_rows), ly(lx.size());
-  for (std::size_t j = 0; j < lattice_rows; ++j) {
-    for (std::size_t i = 0; i < lattice_cols; ++i) {
-      lx[j * lattice_cols + i] = spec.centre_easting(i * kStep);
-      ly[j * lattice_cols + i] = spec.centre_northing(j * kStep);
+/// A row is interpolated when it is needed, so a tile holds no per-cell coordinates.
+class RasterLattice {
+ public:
+  RasterLattice(const GridSpec& spec, OGRCoordinateTransformation& utm_to_raster,
+                const std::array<double, 6>& inverse_geotransform)
+      : cols_((spec.cols + kStep - 1) / kStep + 1), px_(), py_() {
+    const std::size_t rows = (spec.rows + kStep - 1) / kStep + 1;
+    std::vector<double> x(cols_ * rows), y(x.size());
+    for (std::size_t j = 0; j < rows; ++j) {
+      for (std::size_t i = 0; i < cols_; ++i) {
+        x[j * cols_ + i] = spec.centre_easting(i * kStep);
+        y[j * cols_ + i] = spec.centre_northing(j * kStep);
+      }
+    }
+    std::vector<int> ok(x.size(), 0);
+    utm_to_raster.Transform(static_cast<int>(x.size()), x.data(), y.data(), nullptr, ok.data());
+    const auto& g = inverse_geotransform;
+    px_.resize(x.size()), py_.resize(x.size());
+    for (std::size_t k = 0; k < x.size(); ++k) {
+      const bool good = ok[k] && std::isfinite(x[k]) && std::isfinite(y[k]);
+      px_[k] = good ? g[0] + g[1] * x[k] + g[2] * y[k] - 0.5 : std::nan("");
+      py_[k] = good ? g[3] + g[4] * x[k] + g[5] * y[k] - 0.5 : std::nan("");
     }
   }
-  std::vector<int> ok(lx.size(), 0);
-  CPLPushErrorHandler(CPLQuietErrorHandler);
-  utm_to_raster.Transform(static_cast<int>(lx.size()), lx.data(), ly.data(), nullptr, ok.data());
-  CPLPopErrorHandler();
-  const auto& g = inverse_geotransform;
-  std::vector<double> lpx(lx.size()), lpy(lx.size());
-  for (std::size_t k = 0; k < lx.size(); ++k) {
-    const bool good = ok[k] && std::isfinite(lx[k]) && std::isfinite(ly[k]);
-    lpx[k] = good ? g[0] + g[1] * lx[k] + g[2] * ly[k] - 0.5 : std::nan("");
-    lpy[k] = good ? g[3] + g[4] * lx[k] + g[5] * ly[k] - 0.5 : std::nan("");
-  }
-  px.assign(spec.size(), 0.0f);
-  py.assign(spec.size(), 0.0f);
-  for_rows_on_two_cores(spec.rows, [&](std::size_t row) {
+
+  /// The raster coordinates of the centres of the cells of grid row `row` (NaN where PROJ
+  /// failed), `px.size()` = the grid's columns. Lattice cell by lattice cell, so that the
+  /// inner loop has fixed corners and vectorises; the same arithmetic as cell by cell.
+  void row(std::size_t row, std::vector<float>& px, std::vector<float>& py) const {
     const std::size_t j = row / kStep;
     const double ty = double(row - j * kStep) / kStep;
-    for (std::size_t col = 0; col < spec.cols; ++col) {
-      const std::size_t i = col / kStep;
-      const double tx = double(col - i * kStep) / kStep;
-      const auto lerp2 = [&](const std::vector<double>& v) {
-        const double a = v[j * lattice_cols + i], b = v[j * lattice_cols + i + 1];
-        const double c = v[(j + 1) * lattice_cols + i], d = v[(j + 1) * lattice_cols + i + 1];
-        return (a * (1 - tx) + b * tx) * (1 - ty) + (c * (1 - tx) + d * tx) * ty;
-      };
-      px[row * spec.cols + col] = static_cast<float>(lerp2(lpx));
-      py[row * spec.cols + col] = static_cast<float>(lerp2(lpy));
+    for (std::size_t i = 0; i * kStep < px.size(); ++i) {
+      const std::size_t first = i * kStep, n = std::min(kStep, px.size() - first);
+      interpolate(px_, j, i, ty, n, px.data() + first);
+      interpolate(py_, j, i, ty, n, py.data() + first);
     }
-  });
+  }
+
+ private:
+  /// Bilinear between lattice nodes (i, j) .. (i + 1, j + 1) at the first n of the kStep
+  /// cells of a row of lattice cell (i, j).
+  void interpolate(const std::vector<double>& v, std::size_t j, std::size_t i, double ty,
+                   std::size_t n, float* out) const {
+    const double a = v[j * cols_ + i], b = v[j * cols_ + i + 1];
+    const double c = v[(j + 1) * cols_ + i], d = v[(j + 1) * cols_ + i + 1];
+    for (std::size_t k = 0; k < n; ++k) {
+      const double tx = double(k) / kStep;
+      out[k] =
+          static_cast<float>((a * (1 - tx) + b * tx) * (1 - ty) + (c * (1 - tx) + d * tx) * ty);
+    }
+  }
+
+  static constexpr std::size_t kStep = 16;
+  std::size_t cols_;
+  std::vector<double> px_, py_;  ///< at the lattice's nodes
+};
+
+/// The pixels [x0, x1] x [y0, y1] (inclusive) of the raster that a grid touches.
+struct PixelWindow {
+  int x0 = 0, y0 = 0, x1 = -1, y1 = -1;
+  bool empty() const { return x1 < x0 || y1 < y0; }
+  int width() const { return x1 - x0 + 1; }
+  int height() const { return y1 - y0 + 1; }
+};
+
+/// The window of a `width` x `height` raster holding the bilinear neighbourhood of every cell.
+PixelWindow window_of(const GridSpec& spec, const RasterLattice& lattice, int width, int height) {
+  double min_px = width, min_py = height, max_px = -1, max_py = -1;
+  std::vector<float> px(spec.cols), py(spec.cols);
+  for (std::size_t row = 0; row < spec.rows; ++row) {
+    lattice.row(row, px, py);
+    // px and py are NaN together (a lattice node PROJ failed on); NaN compares false, so
+    // these minima and maxima skip them (branch-free, so that the loop vectorises).
+    float row_min_px = std::numeric_limits<float>::infinity(), row_max_px = -row_min_px;
+    float row_min_py = row_min_px, row_max_py = row_max_px;
+    for (std::size_t col = 0; col < spec.cols; ++col) {
+      row_min_px = px[col] < row_min_px ? px[col] : row_min_px;
+      row_max_px = px[col] > row_max_px ? px[col] : row_max_px;
+      row_min_py = py[col] < row_min_py ? py[col] : row_min_py;
+      row_max_py = py[col] > row_max_py ? py[col] : row_max_py;
+    }
+    min_px = std::min<double>(min_px, row_min_px), max_px = std::max<double>(max_px, row_max_px);
+    min_py = std::min<double>(min_py, row_min_py), max_py = std::max<double>(max_py, row_max_py);
+  }
+  PixelWindow w;
+  w.x0 = std::max(0, static_cast<int>(std::floor(min_px)));
+  w.y0 = std::max(0, static_cast<int>(std::floor(min_py)));
+  w.x1 = std::min(width - 1, static_cast<int>(std::floor(max_px)) + 1);
+  w.y1 = std::min(height - 1, static_cast<int>(std::floor(max_py)) + 1);
+  return w;
 }
 
-}  // namespace
-
-std::size_t fill_from_raster(Grid& grid, const std::string& path) {
-  GDALAllRegister();
-  // GDAL's messages go into our errors (which name the file), not raw onto stderr.
-  CPLPushErrorHandler(CPLQuietErrorHandler);
-  struct PopHandler {
-    ~PopHandler() { CPLPopErrorHandler(); }
-  } pop_handler;
-  CPLErrorReset();
-  std::unique_ptr<GDALDataset, GdalDatasetCloser> dataset(
-      static_cast<GDALDataset*>(GDALOpen(path.c_str(), GA_ReadOnly)));
-  if (!dataset) throw InputError(path, "GDAL cannot read this elevation raster" + gdal_message());
-  if (dataset->GetRasterCount() < 1) throw InputError(path, "the raster has no band");
-  const OGRSpatialReference* raster_crs = dataset->GetSpatialRef();
-  if (!raster_crs) {
-    throw InputError(path,
-                     "the raster has no coordinate system (georeference it, e.g. with "
-                     "gdal_translate -a_srs)");
-  }
-  std::array<double, 6> geotransform{}, inverse{};
-  if (dataset->GetGeoTransform(geotransform.data()) != CE_None ||
-      !GDALInvGeoTransform(geotransform.data(), inverse.data())) {
-    throw InputError(path, "the raster has no usable geotransform");
-  }
-  OGRSpatialReference utm, raster = *raster_crs;
-  utm.importFromEPSG(grid.spec.zone.epsg());
-  utm.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-  raster.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-  std::unique_ptr<OGRCoordinateTransformation> to_raster(
-      OGRCreateCoordinateTransformation(&utm, &raster));
-  if (!to_raster) throw InputError(path, "no transformation from UTM to the raster's CRS");
-
-  std::vector<float> px, py;
-  raster_coordinates(grid.spec, *to_raster, inverse, px, py);
-
-  // Read only the window of the raster that the grid touches.
-  const int width = dataset->GetRasterXSize(), height = dataset->GetRasterYSize();
-  double min_px = width, min_py = height, max_px = -1, max_py = -1;
-  for (std::size_t k = 0; k < px.size(); ++k) {
-    if (std::isnan(px[k])) continue;
-    min_px = std::min<double>(min_px, px[k]), max_px = std::max<double>(max_px, px[k]);
-    min_py = std::min<double>(min_py, py[k]), max_py = std::max<double>(max_py, py[k]);
-  }
-  const int x0 = std::max(0, static_cast<int>(std::floor(min_px)));
-  const int y0 = std::max(0, static_cast<int>(std::floor(min_py)));
-  const int x1 = std::min(width - 1, static_cast<int>(std::floor(max_px)) + 1);
-  const int y1 = std::min(height - 1, static_cast<int>(std::floor(max_py)) + 1);
-  if (x1 < x0 || y1 < y0) return 0;  // the raster does not reach the grid
-  const int window_w = x1 - x0 + 1, window_h = y1 - y0 + 1;
-  std::vector<float> pixels(static_cast<std::size_t>(window_w) * window_h);
-  GDALRasterBand* band = dataset->GetRasterBand(1);
-  if (band->RasterIO(GF_Read, x0, y0, window_w, window_h, pixels.data(), window_w, window_h,
-                     GDT_Float32, 0, 0) != CE_None) {
-    throw InputError(path, "cannot read the raster's pixels (truncated file?)" + gdal_message());
-  }
-  int has_nodata = 0;
-  const double nodata = band->GetNoDataValue(&has_nodata);
-  int has_scale = 0, has_offset = 0;
-  const double scale = band->GetScale(&has_scale), offset = band->GetOffset(&has_offset);
-  for (float& v : pixels) {
-    if ((has_nodata &&
-         (v == static_cast<float>(nodata) || (std::isnan(nodata) && std::isnan(v)))) ||
-        !std::isfinite(v)) {
-      v = std::numeric_limits<float>::quiet_NaN();
-    } else {
-      v = static_cast<float>(v * (has_scale ? scale : 1.0) + (has_offset ? offset : 0.0));
-    }
-  }
-
-  std::array<std::size_t, 2> filled_by{0, 0};  // per thread: rows alternate between the two
-  for_rows_on_two_cores(grid.spec.rows, [&](std::size_t row) {
-    std::size_t& filled = filled_by[row % 2];
-    for (std::size_t k = row * grid.spec.cols; k < (row + 1) * grid.spec.cols; ++k) {
-      if (!std::isnan(grid.values[k]) || std::isnan(px[k])) continue;
-      const double fx = double(px[k]) - x0, fy = double(py[k]) - y0;
+/// Fills the NaN cells of `grid` bilinearly from `pixels` (the window's, NaN = no data);
+/// returns the cells filled.
+std::size_t fill_cells(Grid& grid, const RasterLattice& lattice, const PixelWindow& window,
+                       const std::vector<float>& pixels) {
+  const int window_w = window.width(), window_h = window.height();
+  const auto pixel = [&](int c, int r) {
+    return double(pixels[static_cast<std::size_t>(r) * window_w + c]);
+  };
+  std::size_t filled = 0;
+  std::vector<float> px(grid.spec.cols), py(grid.spec.cols);
+  for (std::size_t row = 0; row < grid.spec.rows; ++row) {
+    lattice.row(row, px, py);
+    float* cells = grid.values.data() + row * grid.spec.cols;
+    for (std::size_t col = 0; col < grid.spec.cols; ++col) {
+      if (!std::isnan(cells[col]) || std::isnan(px[col])) continue;
+      const double fx = double(px[col]) - window.x0, fy = double(py[col]) - window.y0;
       if (fx < 0.0 || fy < 0.0 || fx > window_w - 1 || fy > window_h - 1) continue;
       const int c = std::min(static_cast<int>(fx), window_w - 2);
       const int r = std::min(static_cast<int>(fy), window_h - 2);
       if (c < 0 || r < 0) continue;  // a one-pixel-wide window
       const double tx = fx - c, ty = fy - r;
-      const auto pixel = [&](int cc, int rr) {
-        return double(pixels[static_cast<std::size_t>(rr) * window_w + cc]);
-      };
       const double z = (pixel(c, r) * (1 - tx) + pixel(c + 1, r) * tx) * (1 - ty) +
                        (pixel(c, r + 1) * (1 - tx) + pixel(c + 1, r + 1) * tx) * ty;
       if (std::isnan(z)) continue;
-      grid.values[k] = static_cast<float>(z);
+      cells[col] = static_cast<float>(z);
       ++filled;
     }
-  });
-  return filled_by[0] + filled_by[1];
+  }
+  return filled;
+}
+
+}  // namespace
+
+struct RasterElevation::Impl {
+  std::string path;
+  std::unique_ptr<GDALDataset, GdalDatasetCloser> dataset;
+  GDALRasterBand* band = nullptr;
+  std::array<double, 6> inverse_geotransform{};
+  std::unique_ptr<OGRCoordinateTransformation> utm_to_raster;
+  bool has_nodata = false;
+  double nodata = 0.0;
+  double scale = 1.0, offset = 0.0;  ///< 1 and 0 when the band has none
+
+  /// The window's pixels as elevations in metres (NaN: nodata).
+  std::vector<float> read(const PixelWindow& w) const {
+    std::vector<float> pixels(static_cast<std::size_t>(w.width()) * w.height());
+    if (band->RasterIO(GF_Read, w.x0, w.y0, w.width(), w.height(), pixels.data(), w.width(),
+                       w.height(), GDT_Float32, 0, 0) != CE_None) {
+      throw InputError(path, "cannot read the raster's pixels (truncated file?)" + gdal_message());
+    }
+    for (float& v : pixels) {
+      if ((has_nodata &&
+           (v == static_cast<float>(nodata) || (std::isnan(nodata) && std::isnan(v)))) ||
+          !std::isfinite(v)) {
+        v = std::numeric_limits<float>::quiet_NaN();
+      } else {
+        v = static_cast<float>(v * scale + offset);
+      }
+    }
+    return pixels;
+  }
+};
+
+RasterElevation::RasterElevation(const std::string& path, const geo::UtmZone& zone)
+    : impl_(std::make_unique<Impl>()) {
+  static std::once_flag registered;
+  std::call_once(registered, [] { GDALAllRegister(); });
+  const QuietGdal quiet;
+  CPLErrorReset();
+  Impl& r = *impl_;
+  r.path = path;
+  r.dataset.reset(static_cast<GDALDataset*>(GDALOpen(path.c_str(), GA_ReadOnly)));
+  if (!r.dataset) throw InputError(path, "GDAL cannot read this elevation raster" + gdal_message());
+  if (r.dataset->GetRasterCount() < 1) throw InputError(path, "the raster has no band");
+  const OGRSpatialReference* raster_crs = r.dataset->GetSpatialRef();
+  if (!raster_crs) {
+    throw InputError(path,
+                     "the raster has no coordinate system (georeference it, e.g. with "
+                     "gdal_translate -a_srs)");
+  }
+  std::array<double, 6> geotransform{};
+  if (r.dataset->GetGeoTransform(geotransform.data()) != CE_None ||
+      !GDALInvGeoTransform(geotransform.data(), r.inverse_geotransform.data())) {
+    throw InputError(path, "the raster has no usable geotransform");
+  }
+  OGRSpatialReference utm, raster = *raster_crs;
+  utm.importFromEPSG(zone.epsg());
+  utm.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  raster.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  r.utm_to_raster.reset(OGRCreateCoordinateTransformation(&utm, &raster));
+  if (!r.utm_to_raster) throw InputError(path, "no transformation from UTM to the raster's CRS");
+  r.band = r.dataset->GetRasterBand(1);
+  int has_nodata = 0, has_scale = 0, has_offset = 0;
+  r.nodata = r.band->GetNoDataValue(&has_nodata);
+  r.has_nodata = has_nodata != 0;
+  const double scale = r.band->GetScale(&has_scale), offset = r.band->GetOffset(&has_offset);
+  // v * 1.0 + 0.0 is v: a band without scale or offset reads as before.
+  r.scale = has_scale ? scale : 1.0;
+  r.offset = has_offset ? offset : 0.0;
+}
+
+RasterElevation::~RasterElevation() = default;
+
+std::size_t RasterElevation::fill(Grid& grid) const {
+  const QuietGdal quiet;
+  CPLErrorReset();
+  const RasterLattice lattice(grid.spec, *impl_->utm_to_raster, impl_->inverse_geotransform);
+  // Read only the window of the raster that the grid touches.
+  const PixelWindow window = window_of(grid.spec, lattice, impl_->dataset->GetRasterXSize(),
+                                       impl_->dataset->GetRasterYSize());
+  if (window.empty()) return 0;  // the raster does not reach the grid
+  return fill_cells(grid, lattice, window, impl_->read(window));
+}
+
+std::size_t fill_from_raster(Grid& grid, const std::string& path) {
+  return RasterElevation(path, grid.spec.zone).fill(grid);
 }
 
 std::size_t fill_from_points(Grid& grid, const std::vector<ElevationPoint>& points_utm,

@@ -141,6 +141,46 @@ TEST(Terrain, TpiNeedsEnoughOfItsAnnulus) {
   EXPECT_NEAR(lenient.sample(kE0 + 2.5, kN0 + 2.5), 0.0, 1e-6);
 }
 
+TEST(Terrain, TpiOfOneRaisedCellIsItsShareOfTheAnnulus) {
+  // Flat at 0 m but one cell of 100 m, 4 cells (20 m) east of the cell asked about. The small
+  // annulus 10 < d <= 50 m on 5 m cells holds the cells at 2 < d <= 10 cells: 317 lattice points
+  // within radius 10 (Gauss's circle problem) minus 13 within radius 2 = 304 cells, so the TPI
+  // is 0 - 100 / 304. A raised cell at exactly 2 cells is inside the inner disc: TPI 0. The
+  // prefix sums' storage comes from a bigger grid's (stale values must not leak in).
+  rp::Grid grid = grid_of([](double, double) { return 0.0; }, 200.0);  // 80 x 80 cells
+  grid.at(44, 40) = 100.0f;
+  rp::TpiScratch scratch;
+  scratch.sums.assign(100000, 1e9);
+  scratch.counts.assign(100000, 7);
+  {
+    rp::AnnulusTpi tpi(grid, 10.0, 50.0, 0.5, &scratch);
+    EXPECT_FLOAT_EQ(tpi.at(40, 40), static_cast<float>(-100.0 / 304.0));
+    EXPECT_FLOAT_EQ(tpi.at(42, 40), 0.0f);  // 2 cells away: not in the annulus
+    // 10 cells away: on the outer disc's edge, in; 11: outside.
+    EXPECT_FLOAT_EQ(tpi.at(34, 40), static_cast<float>(-100.0 / 304.0));
+    EXPECT_FLOAT_EQ(tpi.at(33, 40), 0.0f);
+  }
+  EXPECT_GE(scratch.sums.size(), 80u * 81u);  // given back for the next tile
+  rp::AnnulusTpi again(grid, 10.0, 50.0, 0.5, &scratch);
+  EXPECT_FLOAT_EQ(again.at(40, 40), static_cast<float>(-100.0 / 304.0));
+}
+
+TEST(Terrain, LargeTpiAtABlockCentreIsItsOwnBlocksMean) {
+  // The large annulus (100..300 m on 5 m cells) runs on 15 m blocks; a cell at a block's centre
+  // takes that block's mean without interpolating. On a plane rising 0.1 m per metre east, the
+  // annulus mean around a block centre is the plane there, so the TPI of the centre cell is 0;
+  // the block one to the east or west would give -1.5 or +1.5 m.
+  rp::Grid grid = grid_of([](double e, double) { return 0.1 * (e - kE0); }, 1000.0);
+  ASSERT_EQ(grid.spec.cols, 400u);
+  rp::AnnulusTpi tpi(grid, 100.0, 300.0, 0.5);
+  for (const std::size_t block : {21u, 40u, 66u, 90u, 100u}) {
+    const std::size_t centre = 3 * block + 1;  // cells 3b..3b+2 form block b
+    EXPECT_NEAR(tpi.at(centre, 200), 0.0, 1e-3) << centre;
+    EXPECT_NEAR(tpi.at(200, centre), 0.0, 1e-3) << centre;
+    EXPECT_NEAR(tpi.at(centre + 1, 200), 0.0, 1e-3) << centre;  // between centres: bilinear
+  }
+}
+
 TEST(Terrain, TpiAtSingleCellsIsTheWholeGridsTpi) {
   // The build computes TPI only at the cells it samples (block means on demand); those cells
   // must hold exactly what the whole-grid computation gives, for the small annulus (cells) and
@@ -256,6 +296,29 @@ TEST(Terrain, RasterIsSampledBilinearlyWithItsNodata) {
   EXPECT_GT(rp::fill_voids(with_void, 100.0), 0u);
   EXPECT_NEAR(with_void.sample(kE0, kN0), plane(kE0, kN0), 1.0);
   EXPECT_EQ(with_void.count_valid(), grid.spec.size());
+}
+
+TEST(Terrain, RasterOpenedOnceFillsManyGrids) {
+  // The build opens a raster once per thread and fills every tile from it: a second grid, half
+  // off the raster, gets the plane's values where the raster's pixel centres surround it.
+  TempDir dir;
+  const auto plane = [](double e, double n) { return 80.0 + 0.04 * (e - kE0) + 0.01 * (n - kN0); };
+  const std::string tif = write_geotiff(dir.file("plane.tif"), plane, 500.0, 10.0);
+  const rp::RasterElevation raster(tif, kZone);
+  rp::Grid inside(rp::grid_covering(kZone, kE0 - 300, kN0 - 300, kE0 + 300, kN0 + 300, 0, 5));
+  EXPECT_EQ(raster.fill(inside), inside.spec.size());
+  EXPECT_NEAR(inside.sample(kE0 + 37.5, kN0 - 12.5), plane(kE0 + 37.5, kN0 - 12.5), 1e-3);
+  // 80 x 40 cells from E0 + 300 m: centres E0 + 302.5 + 5 k; the last pixel centre is at
+  // E0 + 495 m, so columns k = 0..38 have values: 39 x 40 cells.
+  rp::Grid half_off(rp::grid_covering(kZone, kE0 + 300, kN0 - 100, kE0 + 700, kN0 + 100, 0, 5));
+  ASSERT_EQ(half_off.spec.cols, 80u);
+  ASSERT_EQ(half_off.spec.rows, 40u);
+  EXPECT_EQ(raster.fill(half_off), 39u * 40u);
+  EXPECT_NEAR(half_off.at(38, 0), plane(kE0 + 492.5, kN0 - 97.5), 1e-3);
+  EXPECT_TRUE(std::isnan(half_off.at(39, 0)));
+  // Filled cells are kept: a second fill adds none.
+  EXPECT_EQ(raster.fill(half_off), 0u);
+  EXPECT_THROW(rp::RasterElevation(dir.file("missing.tif"), kZone), rp::InputError);
 }
 
 TEST(Terrain, GeographicRasterIsTransformed) {

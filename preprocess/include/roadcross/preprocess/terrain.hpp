@@ -93,16 +93,26 @@ float slope_at(const Grid& elevation, std::size_t col, std::size_t row);
 
 struct TpiPrefixSums;
 
+/// Memory that AnnulusTpi's prefix sums can reuse from one tile to the next: fresh pages of a
+/// tile's ~50 MB of sums cost a page fault and the kernel's zeroing each.
+struct TpiScratch {
+  std::vector<double> sums;
+  std::vector<std::uint32_t> counts;
+};
+
 /// TPI of single cells, computed where asked: the cell's elevation minus the mean elevation of
 /// the cells whose centres lie in the annulus inner_m < d <= outer_m (metres). Sums come from
 /// per-row prefix sums (12 bytes a cell, or a block of cells for large radii), so a cell costs
 /// O(outer_m / cell) and not O(area). Beyond ~20 cells of radius the annulus mean is computed
 /// at the centres of blocks of cells and interpolated (it is smooth); block means are kept once
-/// computed. NaN where the cell has no elevation or less than `min_valid_fraction` of the
-/// annulus has. at() is not thread-safe unless compute_all() ran first.
+/// computed (cell means, for small radii, are not: a cell is rarely asked twice). NaN where the
+/// cell has no elevation or less than `min_valid_fraction` of the annulus has. at() is not
+/// thread-safe unless compute_all() ran first.
 class AnnulusTpi {
  public:
-  AnnulusTpi(const Grid& elevation, double inner_m, double outer_m, double min_valid_fraction);
+  /// `scratch` (optional): storage for the prefix sums, given back when this is destroyed.
+  AnnulusTpi(const Grid& elevation, double inner_m, double outer_m, double min_valid_fraction,
+             TpiScratch* scratch = nullptr);
   ~AnnulusTpi();
   AnnulusTpi(const AnnulusTpi&) = delete;
   AnnulusTpi& operator=(const AnnulusTpi&) = delete;
@@ -114,14 +124,18 @@ class AnnulusTpi {
  private:
   float block_mean(std::size_t col, std::size_t row);
   float compute_block_mean(std::size_t col, std::size_t row) const;
+  bool at_block_centre(std::size_t col, std::size_t row) const;
+  void allocate_cache();
 
   const Grid& elevation_;
   std::size_t factor_;
+  TpiScratch* scratch_;
   std::unique_ptr<TpiPrefixSums> prefix_;
   std::vector<long> outer_, inner_;
   double min_valid_fraction_;
   double full_annulus_ = 0.0;
-  Grid block_mean_;
+  GridSpec block_spec_;            ///< the blocks' grid (the cells' at factor 1)
+  std::vector<float> block_mean_;  ///< per block, once known_; empty: no cache
   std::vector<std::uint8_t> known_;
 };
 

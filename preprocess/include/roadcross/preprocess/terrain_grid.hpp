@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -75,6 +76,25 @@ struct Grid {
 /// Returns the number of cells filled. Throws InputError when GDAL cannot read the file or it
 /// has no CRS.
 std::size_t fill_from_raster(Grid& grid, const std::string& path);
+
+/// A raster elevation file opened once for many grids (the terrain's tiles): the dataset, its
+/// nodata value, scale and offset and the transformation from UTM to the raster's CRS are set
+/// up here, not per tile. GDAL datasets are not thread-safe: one RasterElevation per thread.
+class RasterElevation {
+ public:
+  /// Throws InputError when GDAL cannot read `path` or it has no band, CRS or geotransform.
+  RasterElevation(const std::string& path, const geo::UtmZone& zone);
+  ~RasterElevation();
+  RasterElevation(const RasterElevation&) = delete;
+  RasterElevation& operator=(const RasterElevation&) = delete;
+
+  /// As fill_from_raster, on the calling thread; `grid` must be in the zone given above.
+  std::size_t fill(Grid& grid) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 /// Fills the NaN cells of `grid` by linear interpolation on the Delaunay triangulation of
 /// `points` (UTM metres). Cells outside the convex hull, or in a triangle with an edge longer
