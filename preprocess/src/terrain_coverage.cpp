@@ -54,6 +54,11 @@ void write_terrain_coverage(const std::string& gpkg_path, const Grid& elevation,
   if (!driver) throw OutputError("GDAL has no GeoPackage driver");
   // GDAL stamps gpkg_contents.last_change with "now" unless told otherwise.
   const ScopedConfig date("OGR_CURRENT_DATE", last_change);
+  // As for the rest of the file (GeoPackageWriter): it is private until renamed into place, so
+  // GDAL's connection needs no fsync and no rollback journal either (a failed build discards
+  // the file). Saves ~20 % of this stage.
+  const ScopedConfig synchronous("OGR_SQLITE_SYNCHRONOUS", "OFF");
+  const ScopedConfig journal("OGR_SQLITE_JOURNAL", "OFF");
   // GDAL's warnings (e.g. about the temporary file's extension) are not the user's business;
   // its failures reach the user through the OutputErrors below.
   CPLPushErrorHandler(CPLQuietErrorHandler);
