@@ -15,7 +15,7 @@
 #include <utility>
 #include <vector>
 
-#include "roadcross/preprocess/sight.hpp"
+#include "roadcross/preprocess/obstacle_edge.hpp"
 
 namespace roadcross::preprocess::sight_detail {
 

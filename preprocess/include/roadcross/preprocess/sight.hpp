@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "roadcross/geo.hpp"
+#include "roadcross/preprocess/obstacle_edge.hpp"
 #include "roadcross/preprocess/parameter_spec.hpp"
 #include "roadcross/preprocess/road_network.hpp"
 #include "roadcross/preprocess/segments.hpp"
@@ -42,14 +43,6 @@ struct SightParameters {
   double rank_penalty = 4.0;
 
   void describe(std::vector<ParameterSpec>& out);
-};
-
-/// One edge of an obstacle's footprint (a building outline or a wall line), UTM metres, with
-/// the opaque band above the local ground: from bottom_m (0, or min_height for a building on
-/// pillars or over a passage) to top_m.
-struct ObstacleEdge {
-  PlanePoint a, b;
-  float bottom_m = 0.0f, top_m = 0.0f;
 };
 
 struct ObstacleReport {
