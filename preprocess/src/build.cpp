@@ -264,7 +264,7 @@ BuildSummary run_build(const BuildOptions& options) {
     writer->finish(contents, progress);
     if (has_elevation) {
       progress.start_stage("writing the terrain grid");
-      write_terrain_coverage(output.temp_path(), terrain_grid, contents.last_change);
+      write_terrain_coverage(output.temp_path(), std::move(terrain_grid), contents.last_change);
       progress.finish_stage(std::string("table ") + kTerrainTable);
     }
   });

@@ -773,6 +773,10 @@ class InOrderMerge {
 struct ThreadState {
   std::vector<std::unique_ptr<RasterElevation>> rasters;  ///< per source; null: not a raster
   TpiScratch tpi;
+  // The last tile's elevation cells and void-fill flags: reused pages cost no page fault
+  // (largest tiles first, so the first tile's storage holds every later one).
+  std::vector<float> elevation_cells;
+  std::vector<char> void_queued;
 };
 
 /// One tile's analysis, start to end on one thread: the tiles run two at a time, one per core,
@@ -870,9 +874,9 @@ void TileJob::store(std::size_t tile, const Grid& elevation, const std::vector<c
 TileResult TileJob::run(std::size_t tile, ThreadState& thread) const {
   TileResult out;
   out.cells_per_source.assign(inputs.sources.size(), 0);
-  Grid elevation(grids(tile));
+  Grid elevation(grids(tile), std::move(thread.elevation_cells));
   fill_elevation(tile, elevation, thread, out);
-  out.voids_filled = fill_voids(elevation, p.void_fill_max_m);
+  out.voids_filled = fill_voids(elevation, p.void_fill_max_m, &thread.void_queued);
   // The tile's own cells: those of the whole grid whose centres fall in this tile (the outer
   // tiles reach to the whole grid's edge). Each cell counts once in the statistics and is
   // stored once. Ownership is by column and by row.
@@ -914,6 +918,7 @@ TileResult TileJob::run(std::size_t tile, ThreadState& thread) const {
   }
   sample_elevation(elevation, segments);
   store(tile, elevation, col_owned, row_owned);
+  thread.elevation_cells = std::move(elevation.values);
   return out;
 }
 

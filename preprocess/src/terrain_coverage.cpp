@@ -8,6 +8,8 @@
 
 #include <cmath>
 #include <memory>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "roadcross/preprocess/errors.hpp"
@@ -47,7 +49,7 @@ std::string gdal_message() {
 
 }  // namespace
 
-void write_terrain_coverage(const std::string& gpkg_path, const Grid& elevation,
+void write_terrain_coverage(const std::string& gpkg_path, Grid&& elevation,
                             const std::string& last_change) {
   GDALAllRegister();
   GDALDriver* driver = GetGDALDriverManager()->GetDriverByName("GPKG");
@@ -75,32 +77,33 @@ void write_terrain_coverage(const std::string& gpkg_path, const Grid& elevation,
   options.SetNameValue("TILE_FORMAT", "TIFF");  // float32 gridded coverage
   options.SetNameValue("TILING_SCHEME", "CUSTOM");
   // An in-memory raster with everything set, copied into the GeoPackage the way gdal_translate
-  // does it (the GPKG driver wants nodata, CRS and geotransform in a particular order).
+  // does it (the GPKG driver wants nodata, CRS and geotransform in a particular order). Its
+  // band is the grid's own memory, NaN replaced by the nodata value in place, rows read north
+  // to south through a negative line offset: a copy of the grid (up to 160 MB, in fresh pages)
+  // cost more than the replacement.
   const GridSpec& s = elevation.spec;
+  if (s.size() == 0) throw std::logic_error("write_terrain_coverage: an empty terrain grid");
+  for (float& z : elevation.values) z = std::isnan(z) ? static_cast<float>(kNoDataM) : z;
   GDALDriver* memory = GetGDALDriverManager()->GetDriverByName("MEM");
   std::unique_ptr<GDALDataset, DatasetCloser> source(memory->Create(
-      "", static_cast<int>(s.cols), static_cast<int>(s.rows), 1, GDT_Float32, nullptr));
-  if (!source) throw OutputError("cannot allocate the terrain grid's copy" + gdal_message());
+      "", static_cast<int>(s.cols), static_cast<int>(s.rows), 0, GDT_Float32, nullptr));
+  if (!source) throw OutputError("cannot set up the terrain grid's copy" + gdal_message());
+  char north_row[64] = {};  // CPLPrintPointer does not terminate the string
+  CPLPrintPointer(north_row, elevation.values.data() + (s.rows - 1) * s.cols, sizeof north_row - 1);
+  CPLStringList band_options;
+  band_options.SetNameValue("DATAPOINTER", north_row);
+  band_options.SetNameValue("PIXELOFFSET", "4");
+  band_options.SetNameValue("LINEOFFSET",
+                            std::to_string(-static_cast<long long>(s.cols) * 4).c_str());
+  if (source->AddBand(GDT_Float32, band_options.List()) != CE_None) {
+    throw OutputError("cannot set up the terrain grid's copy" + gdal_message());
+  }
   double geotransform[6] = {s.west_m, s.cell_m, 0.0, s.north_m(), 0.0, -s.cell_m};
   OGRSpatialReference utm;
   utm.importFromEPSG(s.zone.epsg());
   source->SetGeoTransform(geotransform);
   source->SetSpatialRef(&utm);
-  GDALRasterBand* band = source->GetRasterBand(1);
-  band->SetNoDataValue(kNoDataM);
-  // Our rows run south to north, a raster's north to south: copy row by row, flipped.
-  std::vector<float> line(s.cols);
-  for (std::size_t row = 0; row < s.rows; ++row) {
-    for (std::size_t col = 0; col < s.cols; ++col) {
-      const float z = elevation.at(col, row);
-      line[col] = std::isnan(z) ? static_cast<float>(kNoDataM) : z;
-    }
-    const int raster_row = static_cast<int>(s.rows - 1 - row);
-    if (band->RasterIO(GF_Write, 0, raster_row, static_cast<int>(s.cols), 1, line.data(),
-                       static_cast<int>(s.cols), 1, GDT_Float32, 0, 0) != CE_None) {
-      throw OutputError("cannot fill the terrain grid's copy" + gdal_message());
-    }
-  }
+  source->GetRasterBand(1)->SetNoDataValue(kNoDataM);
   std::unique_ptr<GDALDataset, DatasetCloser> dataset(
       driver->CreateCopy(gpkg_path.c_str(), source.get(), FALSE, options.List(), nullptr, nullptr));
   if (!dataset) throw OutputError(gpkg_path + ": cannot add the terrain grid" + gdal_message());

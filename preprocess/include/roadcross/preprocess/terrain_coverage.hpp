@@ -16,8 +16,9 @@ inline constexpr const char* kTerrainTable = "terrain";
 /// Adds `elevation` (UTM metres; NaN cells are stored as nodata -9999) to the GeoPackage at
 /// `gpkg_path` as the gridded coverage table kTerrainTable. `last_change` (ISO 8601) is written as
 /// its gpkg_contents.last_change so that the output stays byte-identical for identical inputs.
-/// Throws OutputError when GDAL cannot write it.
-void write_terrain_coverage(const std::string& gpkg_path, const Grid& elevation,
+/// Throws OutputError when GDAL cannot write it. The grid is used up: its NaN cells are
+/// overwritten with the nodata value and GDAL reads its memory in place (no copy).
+void write_terrain_coverage(const std::string& gpkg_path, Grid&& elevation,
                             const std::string& last_change);
 
 }  // namespace roadcross::preprocess
