@@ -321,6 +321,30 @@ TEST(Terrain, RasterOpenedOnceFillsManyGrids) {
   EXPECT_THROW(rp::RasterElevation(dir.file("missing.tif"), kZone), rp::InputError);
 }
 
+TEST(Terrain, GridOnTheRastersLastPixelColumnIsNotFilled) {
+  // 8 m pixels over kE0 +- 512 m (128 columns, the last centred at kE0 + 508 m, raster column
+  // 127) in the grid's own CRS: every raster coordinate below is exact. A cell needs a pixel to
+  // its right, except on the last column, where it takes that pixel's value (weights 0 and 1)
+  // when the grid also has cells west of it...
+  TempDir dir;
+  const auto plane = [](double e, double n) { return 80.0 + 0.04 * (e - kE0) + 0.01 * (n - kN0); };
+  const rp::RasterElevation raster(write_geotiff(dir.file("plane8.tif"), plane, 512.0, 8.0), kZone);
+  const double last_centre_e = kE0 + 508.0;
+  rp::Grid west_of_it(rp::grid_covering(kZone, last_centre_e - 6, kN0 - 50, last_centre_e + 2,
+                                        kN0 + 50, 0.0, 4.0, 2.0));
+  ASSERT_EQ(west_of_it.spec.cols, 2u);  // centres at last_centre_e - 4 and last_centre_e
+  ASSERT_EQ(west_of_it.spec.rows, 25u);
+  EXPECT_EQ(raster.fill(west_of_it), 2u * 25u);
+  EXPECT_NEAR(west_of_it.at(1, 0), plane(last_centre_e, west_of_it.spec.centre_northing(0)), 1e-3);
+  // ... but not when every cell is on or beyond it: the raster window of such a grid is one
+  // pixel wide (the original two-pass fill's rule, kept bit for bit).
+  rp::Grid on_it(rp::grid_covering(kZone, last_centre_e - 2, kN0 - 50, last_centre_e + 6, kN0 + 50,
+                                   0.0, 4.0, 2.0));
+  ASSERT_EQ(on_it.spec.cols, 2u);  // centres at last_centre_e and last_centre_e + 4
+  EXPECT_EQ(raster.fill(on_it), 0u);
+  EXPECT_EQ(on_it.count_valid(), 0u);
+}
+
 TEST(Terrain, GeographicRasterIsTransformed) {
   // A raster in EPSG:4326 whose value is a linear function of lon/lat: the grid cell at a UTM
   // point must get the function's value at that point's lon/lat.
