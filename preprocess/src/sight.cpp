@@ -427,7 +427,7 @@ class KerbSearch {
   Fan& fan_;
   std::vector<PlanePoint> fan_outline_;  ///< points whose hull holds the fan's targets
   std::size_t fan_size_ = kMinFan;       ///< positions in the next fan
-  std::size_t lines_left_ = 0;           ///< positions to test one by one before the next fan
+  std::size_t lines_left_ = kMinFan;           ///< positions to test one by one before the next fan
   const double end_m_;
   std::size_t k_ = 1;    ///< the next step
   double seen_m_ = 0.0;  ///< the vehicle is seen at every position tried up to here

@@ -504,3 +504,18 @@ TEST(FanClear, GridCellsOfAPolygonHoldEveryCellOfItsLines) {
   EXPECT_GT(clear_fans, 20u);
   EXPECT_GT(lines_checked, 2000u);
 }
+
+TEST(FanClear, TriangleFastPathIsTheHull) {
+  // Two targets and the eye that certainly turn: the triangle, counter-clockwise, whichever
+  // way round the targets come; collinear ones go through convex_hull (all three kept: the
+  // segment there and back).
+  sd::Fan fan;
+  fan.reset({0, 0}, {{10, 0}, {10, 10}});
+  EXPECT_TRUE(same_points(fan.hull(), {{0, 0}, {10, 0}, {10, 10}}));
+  fan.reset({0, 0}, {{10, 10}, {10, 0}});
+  EXPECT_TRUE(same_points(fan.hull(), {{0, 0}, {10, 0}, {10, 10}}));
+  fan.reset({0, 0}, {{5, 5}, {10, 10}});
+  EXPECT_TRUE(same_points(fan.hull(), {{0, 0}, {5, 5}, {10, 10}, {5, 5}}));
+  EXPECT_TRUE(fan.edge_clear({0, 2}, {3, 10}));    // beside the segment
+  EXPECT_FALSE(fan.edge_clear({0, 10}, {10, 0}));  // across it
+}

@@ -393,7 +393,7 @@ class Fan {
       reach_m_ = std::max(reach_m_, std::abs(t.x - eye.x) + std::abs(t.y - eye.y));
     }
     reach_m_ += 2 * kOutlineSlackM;
-    convex_hull(points_, hull_);
+    if (!triangle(eye, outline)) convex_hull(points_, hull_);
     // Axes x, y and the hull's edge normals (not unit: a gap is asked for as kGapM |n|1 >=
     // kGapM |n|), with the bounds every point (not only the hull's vertices) keeps along each,
     // relative to the eye, widened by the gap.
@@ -446,6 +446,23 @@ class Fan {
   /// Projections of points within 1e5 m of the eye are off by < 1e-10 m, the targets may be
   /// kOutlineSlackM outside: 1e-6 m covers both.
   static constexpr double kGapM = kMarginM + 1e-6;
+
+  /// The hull when it is the triangle of the eye and two targets that certainly turn (the
+  /// fan along a straight road): no sorting. False: leave it to convex_hull.
+  bool triangle(const PlanePoint& eye, const std::vector<PlanePoint>& outline) {
+    if (outline.size() != 2) return false;
+    const PlanePoint &b = outline[0], &c = outline[1];
+    const double t1 = (b.x - eye.x) * (c.y - eye.y), t2 = (b.y - eye.y) * (c.x - eye.x);
+    constexpr double kU = std::numeric_limits<double>::epsilon() / 2;
+    const double bound = 8 * kU * (std::abs(t1) + std::abs(t2));  // as in convex_hull
+    hull_.clear();
+    if (t1 - t2 > bound) {
+      hull_.insert(hull_.end(), {eye, b, c});  // counter-clockwise
+    } else if (t1 - t2 < -bound) {
+      hull_.insert(hull_.end(), {eye, c, b});
+    }
+    return !hull_.empty();
+  }
 
   struct Axis {
     PlanePoint n;                     ///< the direction
