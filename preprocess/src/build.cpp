@@ -81,9 +81,11 @@ std::vector<std::string> run_sight_stage(const BuildOptions& options, RoadGraph&
                         std::to_string(obstacles.report.edges) + " edges");
   progress.start_stage("sight distance");
   const SightReport report = compute_sight(graph, terrain, std::move(obstacles.edges), p);
-  progress.finish_stage(std::to_string(report.segments) + " segments, " +
-                        std::to_string(report.limited) + " LIMITED_VISIBILITY, " +
-                        std::to_string(report.lines_of_sight) + " lines of sight");
+  progress.finish_stage(
+      std::to_string(report.segments) + " segments, " + std::to_string(report.limited) +
+      " LIMITED_VISIBILITY, " + std::to_string(report.lines_of_sight) + " lines of sight, " +
+      std::to_string(report.fan_positions) + " positions in " + std::to_string(report.fans) +
+      " clear fans (" + std::to_string(report.fans_failed) + " not clear)");
   std::vector<std::string> notes;
   notes.push_back("sight distance: " + std::to_string(report.limited) + " of " +
                   std::to_string(report.segments) + " segments LIMITED_VISIBILITY (" +

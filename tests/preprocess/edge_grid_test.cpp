@@ -4,6 +4,7 @@
 // (bit for bit, on random and near-degenerate edges).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <random>
@@ -277,4 +278,244 @@ TEST(EdgeGrid, CrossingParameterIsTheDivisionFormBitForBit) {
     }
   }
   EXPECT_GT(crossings, 20000);  // the comparison saw many crossings, not only misses
+}
+
+// ---- The fan test (issue 8): many lines of sight from one eye cleared at once. ----
+
+namespace {
+
+bool same_points(const std::vector<PlanePoint>& got,
+                 const std::vector<std::pair<double, double>>& want) {
+  if (got.size() != want.size()) return false;
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    if (got[i].x != want[i].first || got[i].y != want[i].second) return false;
+  }
+  return true;
+}
+
+/// Exact orientation sign of (b - a) x (c - a) for small integer-valued coordinates.
+double cross(const PlanePoint& a, const PlanePoint& b, const PlanePoint& c) {
+  return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+}
+
+/// Distance from p to segment a-b (plain formula, used only with a generous tolerance).
+double point_segment_m(const PlanePoint& p, const PlanePoint& a, const PlanePoint& b) {
+  const double sx = b.x - a.x, sy = b.y - a.y, len2 = sx * sx + sy * sy;
+  const double t =
+      len2 > 0 ? std::clamp(((p.x - a.x) * sx + (p.y - a.y) * sy) / len2, 0.0, 1.0) : 0.0;
+  return std::hypot(p.x - (a.x + t * sx), p.y - (a.y + t * sy));
+}
+
+}  // namespace
+
+TEST(FanHull, SquareWithInsideCollinearAndRepeatedPoints) {
+  // The square (0,0)-(4,4), its centre, a repeated corner: the four corners, counter-clockwise
+  // from the lowest x (then lowest y).
+  const std::vector<PlanePoint> square{{4, 4}, {0, 0}, {2, 2}, {4, 0}, {0, 4}, {4, 4}, {1, 3}};
+  EXPECT_TRUE(same_points(sd::convex_hull(square), {{0, 0}, {4, 0}, {4, 4}, {0, 4}}));
+  // A point on an edge is nearly collinear: the hull keeps it (never drops a point that might
+  // be outside), which is still a hull of every point.
+  const std::vector<PlanePoint> on_edge{{0, 0}, {2, 0}, {4, 0}, {2, 3}};
+  EXPECT_TRUE(same_points(sd::convex_hull(on_edge), {{0, 0}, {2, 0}, {4, 0}, {2, 3}}));
+  // Fewer than three distinct points come back as they are (sorted, unique).
+  EXPECT_TRUE(same_points(sd::convex_hull({{3, 1}, {1, 1}, {3, 1}}), {{1, 1}, {3, 1}}));
+  EXPECT_TRUE(same_points(sd::convex_hull({{5, 5}}), {{5, 5}}));
+}
+
+TEST(FanHull, EveryPointIsInsideTheHullOfRandomSets) {
+  // Integer coordinates (exact orientations); many collinear triples.
+  std::mt19937_64 rng(3);
+  std::uniform_int_distribution<int> c(-6, 6), n(1, 12);
+  for (int k = 0; k < 5000; ++k) {
+    std::vector<PlanePoint> points(static_cast<std::size_t>(n(rng)));
+    for (PlanePoint& p : points) p = {double(c(rng)), double(c(rng))};
+    const std::vector<PlanePoint> hull = sd::convex_hull(points);
+    ASSERT_FALSE(hull.empty());
+    if (hull.size() < 3) continue;
+    for (std::size_t i = 0; i < hull.size(); ++i) {  // counter-clockwise, no right turn
+      const PlanePoint& a = hull[i];
+      const PlanePoint& b = hull[(i + 1) % hull.size()];
+      const PlanePoint& d = hull[(i + 2) % hull.size()];
+      ASSERT_GE(cross(a, b, d), 0.0) << k;
+      for (const PlanePoint& p : points) ASSERT_GE(cross(a, b, p), 0.0) << k;
+    }
+  }
+}
+
+TEST(FanClear, HandMadeEdgesAroundAFan) {
+  // Eye at the origin, targets along y = 10 from x = 10 to 40: the hull is the triangle
+  // (0,0), (10,10), (40,10). Shifted to UTM-sized coordinates.
+  const double x0 = 731232.0, y0 = 4849872.0;
+  const auto at = [&](double x, double y) { return PlanePoint{x0 + x, y0 + y}; };
+  sd::Fan fan;
+  fan.reset(at(0, 0), {at(10, 10), at(20, 10), at(30, 10), at(40, 10)});
+  EXPECT_EQ(fan.hull().size(), 5u);                      // the collinear targets stay as vertices
+  EXPECT_TRUE(fan.edge_clear(at(0, 12), at(50, 12)));    // 2 m beyond the targets' row
+  EXPECT_TRUE(fan.edge_clear(at(20, 0), at(40, 5)));     // below the triangle
+  EXPECT_TRUE(fan.edge_clear(at(-5, 1), at(-1, 3)));     // behind the eye
+  EXPECT_FALSE(fan.edge_clear(at(25, 5), at(25, 20)));   // across the lines
+  EXPECT_FALSE(fan.edge_clear(at(15, 9), at(16, 9.5)));  // inside the hull
+  EXPECT_FALSE(fan.edge_clear(at(0, 10.0005), at(50, 10.0005)));  // 0.5 mm from the targets
+  EXPECT_TRUE(fan.edge_clear(at(0, 10.002), at(50, 10.002)));     // 2 mm from them
+  // Clear of the hull by 5 m, but on the line through the eye and the last target, so the
+  // crossing test's rounding could call it a crossing: not cleared.
+  EXPECT_FALSE(fan.edge_clear(at(44, 11), at(48, 12)));
+  // The separating axis is the edge's own normal: the edge passes the vertex (40, 10)
+  // diagonally 0.5 m away.
+  EXPECT_TRUE(fan.edge_clear(at(40.0 + 0.5 * std::sqrt(0.5) + 5, 10 + 0.5 * std::sqrt(0.5) - 5),
+                             at(40.0 + 0.5 * std::sqrt(0.5) - 5, 10 + 0.5 * std::sqrt(0.5) + 5)));
+}
+
+TEST(FanClear, ClearEdgesCrossNoLineOfTheFan) {
+  // Random fans (an eye beside a wiggly road, 2-32 consecutive positions) and random edges
+  // near them, including edges grazing the lines and edges on the line through the eye and a
+  // target: whenever edge_clear says clear, crossing_parameter is NaN for every line of the
+  // fan (and the edge is at least the margin from every line).
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), unit(0.0, 1.0);
+  std::uniform_int_distribution<int> size(2, 32);
+  const double x0 = 731234.56, y0 = 4849876.54;
+  std::size_t clear = 0, not_clear = 0, grazing_clear = 0;
+  for (int k = 0; k < 4000; ++k) {
+    const PlanePoint eye{x0 + 1000 * u(rng), y0 + 1000 * u(rng)};
+    std::vector<PlanePoint> targets;
+    double heading = 3.2 * u(rng), px = eye.x + 4 * u(rng), py = eye.y + 4 * u(rng);
+    const double turn = 0.05 * u(rng) * (k % 3 == 0 ? 0.0 : 1.0), start = 5 + 250 * unit(rng);
+    px += start * std::cos(heading), py += start * std::sin(heading);
+    for (int j = 0, n = size(rng); j < n; ++j) {
+      targets.push_back({px, py});
+      heading += turn;
+      px += 5 * std::cos(heading), py += 5 * std::sin(heading);
+    }
+    sd::Fan fan;
+    fan.reset(eye, targets);
+    for (int e = 0; e < 60; ++e) {
+      const PlanePoint& t =
+          targets[std::uniform_int_distribution<std::size_t>(0, targets.size() - 1)(rng)];
+      const double along = 1.3 * unit(rng);
+      const PlanePoint on{eye.x + along * (t.x - eye.x), eye.y + along * (t.y - eye.y)};
+      PlanePoint a, b;
+      switch (e % 4) {
+        case 0: {  // anywhere near the fan
+          a = {on.x + 30 * u(rng), on.y + 30 * u(rng)};
+          b = {a.x + 20 * u(rng), a.y + 20 * u(rng)};
+          break;
+        }
+        case 1: {  // an end 0-3 mm beside a line, pointing away or along
+          const double len = std::hypot(t.x - eye.x, t.y - eye.y);
+          const double nx = -(t.y - eye.y) / len, ny = (t.x - eye.x) / len;
+          const double off = 0.003 * u(rng);
+          a = {on.x + off * nx, on.y + off * ny};
+          const double dir = 3.2 * u(rng);
+          b = {a.x + 10 * std::cos(dir), a.y + 10 * std::sin(dir)};
+          break;
+        }
+        case 2: {  // on the line through the eye and a target, beyond either end
+          const double s = unit(rng) < 0.5 ? -0.2 * unit(rng) : 1.0 + 0.2 * unit(rng);
+          a = {eye.x + s * (t.x - eye.x), eye.y + s * (t.y - eye.y)};
+          const double s2 = s + (s < 0 ? -0.1 : 0.1) * unit(rng);
+          b = {eye.x + s2 * (t.x - eye.x), eye.y + s2 * (t.y - eye.y)};
+          break;
+        }
+        default: {  // parallel to a line, 0-5 mm from it
+          const double len = std::hypot(t.x - eye.x, t.y - eye.y);
+          const double nx = -(t.y - eye.y) / len, ny = (t.x - eye.x) / len;
+          const double off = 0.005 * u(rng);
+          a = {on.x + off * nx, on.y + off * ny};
+          b = {a.x + 0.3 * (t.x - eye.x), a.y + 0.3 * (t.y - eye.y)};
+          break;
+        }
+      }
+      if (!fan.edge_clear(a, b)) {
+        ++not_clear;
+        continue;
+      }
+      ++clear;
+      grazing_clear += (e % 4 == 1 || e % 4 == 3) ? 1 : 0;
+      for (const PlanePoint& target : targets) {
+        const double t_cross = sd::crossing_parameter(sd::PlanLine(eye, target), a, b);
+        ASSERT_TRUE(std::isnan(t_cross)) << k << " " << e;
+        // Independently: the edge keeps ~the margin from the line (a plain distance, with a
+        // tolerance far below the margin).
+        const double d = std::min({point_segment_m(a, eye, target), point_segment_m(b, eye, target),
+                                   point_segment_m(eye, a, b), point_segment_m(target, a, b)});
+        ASSERT_GT(d, 0.999 * sd::Fan::kMarginM) << k << " " << e;
+      }
+    }
+  }
+  EXPECT_GT(clear, 50000u);  // both answers well represented
+  EXPECT_GT(not_clear, 50000u);
+  EXPECT_GT(grazing_clear, 5000u);  // edges 1-5 mm from a line were cleared too
+}
+
+TEST(FanClear, GridCellsOfAPolygonHoldEveryCellOfItsLines) {
+  // Random edges; random fans: every edge any_along offers for a line of the fan is offered by
+  // any_in_polygon for the fan's hull; and a fan any_in_polygon clears (no edge fails
+  // edge_clear) has no line that any edge crosses.
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), unit(0.0, 1.0);
+  const double x0 = 731232.0, y0 = 4849872.0;
+  std::vector<rp::ObstacleEdge> edges;
+  for (int i = 0; i < 3000; ++i) {
+    const double x = x0 + 600 * u(rng), y = y0 + 600 * u(rng);
+    edges.push_back(edge(x, y, x + 20 * u(rng), y + 20 * u(rng)));
+  }
+  // Some edges exactly on cell boundaries, and an edge along a cell boundary.
+  edges.push_back(edge(x0 + 16, y0 - 40, x0 + 16, y0 + 40));
+  edges.push_back(edge(x0 - 40, y0 + 32, x0 + 40, y0 + 32));
+  const sd::EdgeGrid grid(edges);
+  std::size_t clear_fans = 0, lines_checked = 0;
+  for (int k = 0; k < 400; ++k) {
+    const PlanePoint eye{x0 + 400 * u(rng), y0 + 400 * u(rng)};
+    std::vector<PlanePoint> targets;
+    double heading = 3.2 * u(rng);
+    const double r0 = 5 + 200 * unit(rng), turn = 0.1 * u(rng);
+    double px = eye.x + r0 * std::cos(heading), py = eye.y + r0 * std::sin(heading);
+    if (k % 5 == 0) px = x0 + 16.0 * std::round(u(rng) * 20), py = y0 + 32;  // on boundaries
+    for (int j = 0, n = 2 + k % 16; j < n; ++j) {
+      targets.push_back({px, py});
+      heading += turn;
+      px += 5 * std::cos(heading), py += 5 * std::sin(heading);
+    }
+    sd::Fan fan;
+    fan.reset(eye, targets);
+    std::set<std::uint32_t> in_polygon;
+    grid.any_in_polygon(fan.hull(), sd::Fan::kMarginM, [&](std::uint32_t i) {
+      in_polygon.insert(i);
+      return false;
+    });
+    bool any_crossing = false;
+    for (const PlanePoint& t : targets) {
+      for (const std::uint32_t i : offered(grid, eye, t)) {
+        ASSERT_TRUE(in_polygon.count(i)) << k;
+        any_crossing |=
+            !std::isnan(sd::crossing_parameter(sd::PlanLine(eye, t), edges[i].a, edges[i].b));
+      }
+      ++lines_checked;
+    }
+    const bool clear = !grid.any_in_polygon(fan.hull(), sd::Fan::kMarginM, [&](std::uint32_t i) {
+      return !fan.edge_clear(edges[i].a, edges[i].b);
+    });
+    if (clear) {
+      ++clear_fans;
+      ASSERT_FALSE(any_crossing) << k;
+    }
+  }
+  EXPECT_GT(clear_fans, 20u);
+  EXPECT_GT(lines_checked, 2000u);
+}
+
+TEST(FanClear, TriangleFastPathIsTheHull) {
+  // Two targets and the eye that certainly turn: the triangle, counter-clockwise, whichever
+  // way round the targets come; collinear ones go through convex_hull (all three kept: the
+  // segment there and back).
+  sd::Fan fan;
+  fan.reset({0, 0}, {{10, 0}, {10, 10}});
+  EXPECT_TRUE(same_points(fan.hull(), {{0, 0}, {10, 0}, {10, 10}}));
+  fan.reset({0, 0}, {{10, 10}, {10, 0}});
+  EXPECT_TRUE(same_points(fan.hull(), {{0, 0}, {10, 0}, {10, 10}}));
+  fan.reset({0, 0}, {{5, 5}, {10, 10}});
+  EXPECT_TRUE(same_points(fan.hull(), {{0, 0}, {5, 5}, {10, 10}, {5, 5}}));
+  EXPECT_TRUE(fan.edge_clear({0, 2}, {3, 10}));    // beside the segment
+  EXPECT_FALSE(fan.edge_clear({0, 10}, {10, 0}));  // across it
 }

@@ -138,6 +138,67 @@ class EdgeGrid {
     });
   }
 
+  /// True when test(edge index) is true for an edge in a cell that meets the convex polygon
+  /// `polygon` (its vertices in order, as convex_hull gives them) widened by margin_m (>= 0,
+  /// metres; below a cell). Every cell that any_along visits for a segment inside the polygon
+  /// is among them: a row's columns span the polygon's extent in the row widened by the margin
+  /// and for_cells_along's slack, and the margin (1-2 mm) is far above the rounding (1e-11 of a
+  /// cell). Cells are visited row by row; an edge in several cells is offered once for each.
+  template <typename Test>
+  bool any_in_polygon(const std::vector<PlanePoint>& polygon, double margin_m, Test&& test) const {
+    if (edges_.empty() || polygon.empty()) return false;
+    const double m = margin_m / kCellM + 1e-6;  // in cells; 1e-6: for_cells_along's slack
+    // The polygon's sides in cells, each with 1 / its height (a multiplication per row instead
+    // of a division: the rounding differs by 1e-16, far inside the margin).
+    struct Side {
+      double ax, ay, bx, by, inverse_height;
+    };
+    thread_local std::vector<Side> sides;
+    sides.clear();
+    double y_min = polygon[0].y / kCellM, y_max = y_min;
+    for (std::size_t i = 0; i < polygon.size(); ++i) {
+      const PlanePoint& pa = polygon[i];
+      const PlanePoint& pb = polygon[i + 1 < polygon.size() ? i + 1 : 0];
+      const double ay = pa.y / kCellM, by = pb.y / kCellM;
+      sides.push_back({pa.x / kCellM, ay, pb.x / kCellM, by, by != ay ? 1.0 / (by - ay) : 0.0});
+      y_min = std::min(y_min, ay), y_max = std::max(y_max, ay);
+    }
+    const std::int64_t first_row = floor_to_int(y_min - m), last_row = floor_to_int(y_max + m);
+    for (std::int64_t row = first_row; row <= last_row; ++row) {
+      // The polygon's x extent in the strip of rows lo..hi: attained on its boundary, so the
+      // union of its edges' parts in the strip (a single vertex: the vertex).
+      const double lo = double(row) - m, hi = double(row + 1) + m;
+      double x0 = std::numeric_limits<double>::infinity(), x1 = -x0;
+      for (const Side& side : sides) {
+        const double ax = side.ax, ay = side.ay, bx = side.bx, by = side.by;
+        if (std::max(ay, by) < lo || std::min(ay, by) > hi) continue;
+        double ex0 = std::min(ax, bx), ex1 = std::max(ax, bx);
+        if (by != ay) {
+          const double t0 = std::clamp((lo - ay) * side.inverse_height, 0.0, 1.0);
+          const double t1 = std::clamp((hi - ay) * side.inverse_height, 0.0, 1.0);
+          ex0 = ax + t0 * (bx - ax), ex1 = ax + t1 * (bx - ax);
+          if (ex0 > ex1) std::swap(ex0, ex1);
+        }
+        x0 = std::min(x0, ex0), x1 = std::max(x1, ex1);
+      }
+      if (!(x0 <= x1)) continue;  // the widened y range's end rows may hold no part
+      const std::int64_t c0 = floor_to_int(x0 - m), c1 = floor_to_int(x1 + m);
+      bool looked_up = false;
+      std::uint64_t tile_key = 0;
+      const std::uint32_t* begins = nullptr;
+      for (std::int64_t c = c0; c <= c1; ++c) {
+        const std::uint64_t k = key(c >> kTileShift, row >> kTileShift);
+        if (!looked_up || k != tile_key) looked_up = true, tile_key = k, begins = tile_begins(k);
+        if (!begins) continue;
+        const std::size_t cell = cell_in_tile(c, row);
+        for (std::uint32_t e = begins[cell]; e < begins[cell + 1]; ++e) {
+          if (test(edges_[e])) return true;
+        }
+      }
+    }
+    return false;
+  }
+
   std::size_t tiles() const { return begins_.size() / kTileCells; }
   /// (edge, cell) pairs filed.
   std::size_t entries() const { return edges_.size(); }
@@ -252,5 +313,196 @@ inline double crossing_parameter(const PlanLine& line, const PlanePoint& a, cons
   if (along_line < 0.0 || along_line > 1.0 || along_edge < 0.0 || along_edge > 1.0) return NAN;
   return along_line;
 }
+
+/// The convex hull of `points` into `hull` (counter-clockwise, from the lowest-x point;
+/// duplicates dropped; `points` is sorted in place). Andrew's monotone chain, dropping a point
+/// only when it is certainly inside: the turn's cross product is below minus a bound on its
+/// rounding error. A nearly collinear point stays as a vertex, so the polygon may bend inwards
+/// by ~1e-14 of its size, but every input point lies in the hull of the vertices returned,
+/// which is what the fan test relies on.
+inline void convex_hull(std::vector<PlanePoint>& points, std::vector<PlanePoint>& hull) {
+  std::sort(points.begin(), points.end(), [](const PlanePoint& p, const PlanePoint& q) {
+    return p.x < q.x || (p.x == q.x && p.y < q.y);
+  });
+  points.erase(std::unique(points.begin(), points.end(),
+                           [](const PlanePoint& p, const PlanePoint& q) {
+                             return p.x == q.x && p.y == q.y;
+                           }),
+               points.end());
+  hull.clear();
+  if (points.size() < 3) {
+    hull.assign(points.begin(), points.end());
+    return;
+  }
+  // (b - a) x (c - a) < 0 for certain: the computed value is within 4.1 u (|t1| + |t2|) of the
+  // true one (u = 2^-53; differences and products each rounded once), 8 u is the bound used.
+  const auto certainly_right_turn = [](const PlanePoint& a, const PlanePoint& b,
+                                       const PlanePoint& c) {
+    const double t1 = (b.x - a.x) * (c.y - a.y), t2 = (b.y - a.y) * (c.x - a.x);
+    constexpr double kU = std::numeric_limits<double>::epsilon() / 2;
+    return t1 - t2 < -8 * kU * (std::abs(t1) + std::abs(t2));
+  };
+  for (const PlanePoint& p : points) {  // the lower chain, left to right
+    while (hull.size() >= 2 && certainly_right_turn(hull[hull.size() - 2], hull.back(), p))
+      hull.pop_back();
+    hull.push_back(p);
+  }
+  const std::size_t lower = hull.size();
+  for (std::size_t i = points.size() - 1; i-- > 0;) {  // the upper chain, right to left
+    while (hull.size() > lower &&
+           certainly_right_turn(hull[hull.size() - 2], hull.back(), points[i]))
+      hull.pop_back();
+    hull.push_back(points[i]);
+  }
+  hull.pop_back();  // the first point again
+}
+
+/// The same, returned (for the tests).
+inline std::vector<PlanePoint> convex_hull(std::vector<PlanePoint> points) {
+  std::vector<PlanePoint> hull;
+  convex_hull(points, hull);
+  return hull;
+}
+
+/// A fan of sight lines from one eye to consecutive targets, and the test that lets the sight
+/// stage skip them all: an obstacle edge that is clear of the fan cannot block any of its
+/// lines, because crossing_parameter returns NaN for it with every one of them.
+///
+/// Why (u = 2^-53, |v|1 = |vx| + |vy|; r = target - eye, s = b - a, q = a - eye, D = r x s):
+/// crossing_parameter computes D, q x s and q x r each within 4.1 u of |r|1|s|1, |q|1|s|1,
+/// |q|1|r|1 and answers only when both quotients round into [0, 1], i.e. for the reals
+/// lambda = (q x s)'/D', mu = (q x r)'/D' in [0, 1 + u]. Then w = (eye + lambda r) -
+/// (a + mu s) has |w x s| <= 4.2 u |s|1 (|r|1 + |q|1) and |w x r| <= 4.2 u |r|1 (|s|1 + |q|1),
+/// and from w D = (w x s) r - (w x r) s, |w| |D| <= 4.2 u |r|1 |s|1 M with M = |r|1 + |s|1 +
+/// 2 |q|1. The two points are on the line and on the edge (to u of their lengths), so if the
+/// edge is kMarginM from every line (edge_clear asks kGapM from the hull of the eye and the
+/// outline, which holds them all), |w| >= 0.8 kMarginM and so |D| <= 5.3 u |r|1 |s|1 M / kMarginM:
+/// the edge would have to be parallel to the line to 1e-9, and then |q x s| = |lambda D - w x s| <=
+/// u |s|1 M (5.4 |r|1 / kMarginM + 4.2) - the eye within ~1e-6 m of the edge's own line. edge_clear
+/// asks for both: kMarginM of separation (by separating axes: the hull's edge normals, x, y and the
+/// edge's normal) and |q x s| above 8 u |s|1 M (R1 / kMarginM + 2), R1 the largest |r|1 of the fan.
+/// It is conservative: a false answer only means "test the lines one by one".
+class Fan {
+ public:
+  /// Far above the rounding of coordinates (~1e-9 m at UTM's 1e7 m) and of the projections
+  /// below (~1e-12 m), far below anything that matters to a wall: 1 mm.
+  static constexpr double kMarginM = 1e-3;
+  /// How far outside the hull of the eye and the outline a target may lie.
+  static constexpr double kOutlineSlackM = 1e-7;
+
+  /// The fan from `eye` to targets that lie in the hull of `eye` and `outline` (at least one
+  /// point), or within kOutlineSlackM of it. Allocates only while the buffers grow.
+  void reset(const PlanePoint& eye, const std::vector<PlanePoint>& outline) {
+    eye_ = eye;
+    points_.assign(outline.begin(), outline.end());
+    points_.push_back(eye);
+    reach_m_ = 0.0;  // |t - eye|1 is convex: its largest over the hull is at a vertex
+    for (const PlanePoint& t : outline) {
+      reach_m_ = std::max(reach_m_, std::abs(t.x - eye.x) + std::abs(t.y - eye.y));
+    }
+    reach_m_ += 2 * kOutlineSlackM;
+    if (!triangle(eye, outline)) convex_hull(points_, hull_);
+    // Axes x, y and the hull's edge normals (not unit: a gap is asked for as kGapM |n|1 >=
+    // kGapM |n|), with the bounds every point (not only the hull's vertices) keeps along each,
+    // relative to the eye, widened by the gap.
+    // The long sides first: a fan along a road is a thin wedge, and most edges near it lie
+    // beside one of its two long sides.
+    axes_.clear();
+    for (std::size_t i = 0; i < hull_.size() && hull_.size() > 1; ++i) {
+      const PlanePoint& a = hull_[i];
+      const PlanePoint& b = hull_[i + 1 < hull_.size() ? i + 1 : 0];
+      const PlanePoint n{-(b.y - a.y), b.x - a.x};
+      if (n.x != 0.0 || n.y != 0.0) axes_.push_back({n, 0.0, 0.0});
+    }
+    std::sort(axes_.begin(), axes_.end(), [](const Axis& p, const Axis& q) {
+      return std::abs(p.n.x) + std::abs(p.n.y) > std::abs(q.n.x) + std::abs(q.n.y);
+    });
+    axes_.push_back({{1.0, 0.0}, 0.0, 0.0});
+    axes_.push_back({{0.0, 1.0}, 0.0, 0.0});
+    for (Axis& axis : axes_) {
+      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+      for (const PlanePoint& p : points_) {
+        const double d = axis.n.x * (p.x - eye.x) + axis.n.y * (p.y - eye.y);
+        lo = std::min(lo, d), hi = std::max(hi, d);
+      }
+      const double gap = kGapM * (std::abs(axis.n.x) + std::abs(axis.n.y));
+      axis.below = lo - gap, axis.above = hi + gap;
+    }
+    rel_hull_.clear();
+    for (const PlanePoint& v : hull_) rel_hull_.push_back({v.x - eye.x, v.y - eye.y});
+  }
+
+  /// The hull of the eye and the outline (for EdgeGrid::any_in_polygon).
+  const std::vector<PlanePoint>& hull() const { return hull_; }
+
+  /// True only when no line of the fan can be crossed by the edge a->b (see the class).
+  bool edge_clear(const PlanePoint& a, const PlanePoint& b) const {
+    constexpr double kU = std::numeric_limits<double>::epsilon() / 2;
+    constexpr double kFarM = 1e5;
+    const PlanePoint ra{a.x - eye_.x, a.y - eye_.y}, rb{b.x - eye_.x, b.y - eye_.y};
+    const double qa = std::abs(ra.x) + std::abs(ra.y), qb = std::abs(rb.x) + std::abs(rb.y);
+    if (!(qa < kFarM && qb < kFarM && reach_m_ < kFarM)) return false;
+    if (!separated(ra, rb)) return false;
+    const double sx = b.x - a.x, sy = b.y - a.y;
+    const double s1 = std::abs(sx) + std::abs(sy);
+    const double m = reach_m_ + s1 + 2 * qa;
+    const double cross = ra.x * sy - ra.y * sx;  // q x s
+    return std::abs(cross) > 8 * kU * s1 * m * (reach_m_ / kMarginM + 2);
+  }
+
+ private:
+  /// Projections of points within 1e5 m of the eye are off by < 1e-10 m, the targets may be
+  /// kOutlineSlackM outside: 1e-6 m covers both.
+  static constexpr double kGapM = kMarginM + 1e-6;
+
+  /// The hull when it is the triangle of the eye and two targets that certainly turn (the
+  /// fan along a straight road): no sorting. False: leave it to convex_hull.
+  bool triangle(const PlanePoint& eye, const std::vector<PlanePoint>& outline) {
+    if (outline.size() != 2) return false;
+    const PlanePoint &b = outline[0], &c = outline[1];
+    const double t1 = (b.x - eye.x) * (c.y - eye.y), t2 = (b.y - eye.y) * (c.x - eye.x);
+    constexpr double kU = std::numeric_limits<double>::epsilon() / 2;
+    const double bound = 8 * kU * (std::abs(t1) + std::abs(t2));  // as in convex_hull
+    hull_.clear();
+    if (t1 - t2 > bound) {
+      hull_.insert(hull_.end(), {eye, b, c});  // counter-clockwise
+    } else if (t1 - t2 < -bound) {
+      hull_.insert(hull_.end(), {eye, c, b});
+    }
+    return !hull_.empty();
+  }
+
+  struct Axis {
+    PlanePoint n;                     ///< the direction
+    double below = 0.0, above = 0.0;  ///< a segment entirely outside these is separated
+  };
+
+  /// A separating axis with a gap of kGapM between the fan's points and the segment ra->rb
+  /// (both relative to the eye).
+  bool separated(const PlanePoint& ra, const PlanePoint& rb) const {
+    for (const Axis& axis : axes_) {
+      const double pa = axis.n.x * ra.x + axis.n.y * ra.y;
+      const double pb = axis.n.x * rb.x + axis.n.y * rb.y;
+      if (std::min(pa, pb) >= axis.above || std::max(pa, pb) <= axis.below) return true;
+    }
+    // The edge's own normal against the hull's vertices (every point is in their hull).
+    const PlanePoint n{-(rb.y - ra.y), rb.x - ra.x};
+    const double n1 = std::abs(n.x) + std::abs(n.y);
+    if (!(n1 > 0.0)) return false;
+    const double pa = n.x * ra.x + n.y * ra.y, pb = n.x * rb.x + n.y * rb.y;
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const PlanePoint& v : rel_hull_) {
+      const double d = n.x * v.x + n.y * v.y;
+      lo = std::min(lo, d), hi = std::max(hi, d);
+    }
+    return std::min(pa, pb) >= hi + kGapM * n1 || std::max(pa, pb) <= lo - kGapM * n1;
+  }
+
+  PlanePoint eye_;
+  double reach_m_ = 0.0;            ///< R1: the largest |target - eye|1
+  std::vector<PlanePoint> points_;  ///< the targets and the eye (sorted by the hull)
+  std::vector<PlanePoint> hull_, rel_hull_;
+  std::vector<Axis> axes_;
+};
 
 }  // namespace roadcross::preprocess::sight_detail

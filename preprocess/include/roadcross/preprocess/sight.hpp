@@ -97,7 +97,10 @@ struct SightReport {
   std::size_t segments = 0;         ///< segments with a sight distance
   std::size_t limited = 0;          ///< of them LIMITED_VISIBILITY
   std::size_t skipped_tunnels = 0;  ///< tunnel segments (no sight computed)
-  std::size_t lines_of_sight = 0;   ///< visibility tests made
+  std::size_t lines_of_sight = 0;   ///< visibility tests made one line at a time
+  std::size_t fans = 0;             ///< fans of lines found clear of obstacles at once
+  std::size_t fan_positions = 0;    ///< vehicle positions they settled (lines not tested)
+  std::size_t fans_failed = 0;      ///< fans that were not (halved and tried again)
 };
 
 /// Fills the sight fields of every segment (run after terrain and context). `terrain` is the
