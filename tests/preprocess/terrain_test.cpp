@@ -157,23 +157,31 @@ TEST(Terrain, TpiOfOneRaisedCellIsItsShareOfTheAnnulus) {
 }
 
 TEST(Terrain, TpiPrefixSumBandGivesTheSameInAnyOrder) {
-  // A tall grid (60 x 300 cells) with two raised cells, 250 cells apart: the prefix sums are
-  // held for a band of ~69 rows (3 x (21 + 2)), so asking at one, then far north at the other,
-  // then back south moves the band forward, jumps it and restarts it. Each answer is the one
-  // by hand (-100 / 304 as above: 4 cells from a 100 m cell, 0 elsewhere on the flat).
-  rp::Grid grid(rp::grid_covering(kZone, kE0, kN0, kE0 + 300.0, kN0 + 1500.0, 0.0, 5.0));
-  ASSERT_EQ(grid.spec.rows, 300u);
-  std::fill(grid.values.begin(), grid.values.end(), 0.0f);
-  grid.at(30, 40) = 100.0f;
-  grid.at(30, 290) = 100.0f;
-  const float share = static_cast<float>(-100.0 / 304.0);
+  // A tall grid (60 x 600 cells) rising 1 m a row northwards, with two cells raised 100 m
+  // above it, 540 rows apart. The prefix sums are held for a band of 184 rows (8 query windows
+  // of 21 + 2 rows), so a sweep north moves the band forward, asking at the far raised cell
+  // jumps it, and coming back south restarts it. By hand: the annulus is symmetric about its
+  // cell, so the plane's mean over it is the cell's own height (all sums are whole numbers:
+  // exact) and the TPI is 0; 4 cells from a raised cell it is -100 / 304 (as above), and at
+  // the raised cell +100. A row of the band read at the wrong place would be off by metres.
+  rp::Grid grid(rp::grid_covering(kZone, kE0, kN0, kE0 + 300.0, kN0 + 3000.0, 0.0, 5.0));
+  ASSERT_EQ(grid.spec.rows, 600u);
+  for (std::size_t row = 0; row < grid.spec.rows; ++row) {
+    for (std::size_t col = 0; col < grid.spec.cols; ++col) grid.at(col, row) = float(row);
+  }
+  grid.at(30, 40) += 100.0f;
+  grid.at(30, 580) += 100.0f;
+  const double share = -100.0 / 304.0;
   rp::AnnulusTpi tpi(grid, 10.0, 50.0, 0.5);
-  EXPECT_FLOAT_EQ(tpi.at(26, 40), share);
-  for (std::size_t row = 41; row < 120; ++row) EXPECT_EQ(tpi.at(20, row), 0.0f) << row;
-  EXPECT_FLOAT_EQ(tpi.at(30, 286), share);  // a jump past the band
-  EXPECT_EQ(tpi.at(30, 150), 0.0f);  // back south: the band restarts
-  EXPECT_FLOAT_EQ(tpi.at(30, 36), share);
-  EXPECT_FLOAT_EQ(tpi.at(30, 290), 100.0f);  // the raised cell: 100 above a flat annulus
+  EXPECT_NEAR(tpi.at(26, 40), share, 1e-4);
+  for (std::size_t row = 41; row < 400; ++row) EXPECT_EQ(tpi.at(20, row), 0.0f) << row;
+  EXPECT_NEAR(tpi.at(30, 576), share, 1e-4);  // a jump past the band
+  EXPECT_EQ(tpi.at(30, 150), 0.0f);           // back south: the band restarts
+  EXPECT_NEAR(tpi.at(30, 36), share, 1e-4);
+  EXPECT_NEAR(tpi.at(34, 40), share, 1e-4);
+  EXPECT_NEAR(tpi.at(30, 570), share, 1e-4);  // 10 rows from the raised cell: on the edge, in
+  EXPECT_EQ(tpi.at(30, 569), 0.0f);           // 11 rows: out
+  EXPECT_NEAR(tpi.at(30, 580), 100.0, 1e-4);
 }
 
 TEST(Terrain, LargeTpiAtABlockCentreIsItsOwnBlocksMean) {

@@ -95,7 +95,7 @@ struct TpiPrefixSums;
 
 /// Which rows' prefix sums an AnnulusTpi holds.
 enum class TpiRows {
-  /// A band of rows around the rows last asked about (~3 annulus diameters, ~1 MB for a 10 km
+  /// A band of rows around the rows last asked about (~8 annulus diameters, ~5 MB for a 10 km
   /// tile), computed as the queries move north: at() is cheapest called row by row, south to
   /// north (any order gives the same values; going back south recomputes rows). Not
   /// thread-safe.
