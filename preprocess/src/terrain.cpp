@@ -9,7 +9,14 @@
 #include <numbers>
 #include <numeric>
 #include <optional>
+#include <span>
+#include <stdexcept>
+#include <string>
 #include <thread>
+
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include "roadcross/preprocess/errors.hpp"
 #include "roadcross/preprocess/progress.hpp"
@@ -146,71 +153,120 @@ Grid slope_degrees(const Grid& elevation) {
 namespace {
 
 /// Per-row prefix sums of the sums and valid-cell counts of blocks of factor x factor cells
-/// (factor 1: the cells): block row r, block columns [a, b) sum to sum[r * stride + b] -
-/// sum[r * stride + a]. 12 bytes per block. The storage can come from an earlier tile's sums
-/// (TpiScratch): reused pages cost neither a page fault nor the kernel's zeroing.
+/// (factor 1: the cells): block row r, block columns [a, b) sum to row_sums(r)[b] -
+/// row_sums(r)[a]. 12 bytes per block, held for a band of rows only: a disc query at block row
+/// r reads rows r - R .. r + R, and the build asks row by row, so ensure() computes rows as the
+/// queries move north and drops those left behind (a 10 km tile's sums took ~54 MB per
+/// thread; its band ~5 MB). A row's sums depend only on that row's cells and are computed by
+/// the same arithmetic whenever computed: a row dropped and computed again has the same bits,
+/// so any order of queries gives the same answers (only slower when it goes back south).
 struct RowPrefixSums {
-  std::size_t cols, rows, stride;
+  /// The band holds this many query windows: when it moves north, the last ~2 windows' rows
+  /// are copied to its start, so a larger band copies less often (8: a row is copied ~0.3
+  /// times; 3 copied each row ~1.7 times, 4 % of a 1x Monaco build's instructions).
+  static constexpr std::size_t kBandWindows = 8;
+
+  const Grid& grid;
+  std::size_t factor, cols, rows, stride;
+  bool all_rows;                ///< every row computed at construction: ensure() only reads
+  std::size_t capacity_rows;    ///< rows the band holds
+  std::size_t keep_below_rows;  ///< rows kept south of a query when the band moves north
+  std::size_t first_row = 0;    ///< the band's first row
+  std::size_t filled_rows = 0;  ///< rows [first_row, first_row + filled_rows) are computed
   std::vector<double> sum;
   std::vector<std::uint32_t> count;
+  std::vector<double> block_sum;  ///< factor > 1: one block row's sums before the prefix
+  std::vector<std::uint32_t> block_count;
 
-  RowPrefixSums(const Grid& grid, std::size_t factor, TpiScratch&& storage)
-      : cols((grid.spec.cols + factor - 1) / factor),
-        rows((grid.spec.rows + factor - 1) / factor),
+  /// `window_rows`: the most rows one query reads (0: hold every row, computed here; then
+  /// ensure() never writes and queries may run on several threads).
+  RowPrefixSums(const Grid& g, std::size_t block_factor, std::size_t window_rows)
+      : grid(g),
+        factor(block_factor),
+        cols((g.spec.cols + block_factor - 1) / block_factor),
+        rows((g.spec.rows + block_factor - 1) / block_factor),
         stride(cols + 1),
-        sum(std::move(storage.sums)),
-        count(std::move(storage.counts)) {
-    sum.resize(rows * stride);  // every element is written below
-    count.resize(rows * stride);
-    if (factor == 1) {
-      cell_rows(grid);
-    } else {
-      block_rows(grid, factor);
-    }
+        all_rows(window_rows == 0),
+        capacity_rows(window_rows == 0 ? rows : std::min(rows, kBandWindows * window_rows)),
+        keep_below_rows(window_rows) {
+    sum.resize(capacity_rows * stride);  // every element read is written first
+    count.resize(capacity_rows * stride);
+    if (factor > 1) block_sum.resize(cols), block_count.resize(cols);
+    if (window_rows == 0 && rows > 0) ensure(0, long(rows) - 1);
   }
 
-  /// Factor 1: one pass a row. (0.0 + v is v: the same sums as block_rows would give.)
-  void cell_rows(const Grid& grid) {
-    for (std::size_t row = 0; row < rows; ++row) {
+  const double* row_sums(std::size_t row) const { return sum.data() + (row - first_row) * stride; }
+  const std::uint32_t* row_counts(std::size_t row) const {
+    return count.data() + (row - first_row) * stride;
+  }
+
+  /// Makes rows lo..hi (clipped to the grid) available.
+  void ensure(long lo, long hi) {
+    const std::size_t first = static_cast<std::size_t>(std::max(0L, lo));
+    const std::size_t last = static_cast<std::size_t>(std::min(long(rows) - 1, hi));
+    if (hi < 0 || first > last) return;
+    std::size_t end = first_row + filled_rows;
+    if (first >= first_row && last < end) return;  // the usual case: all there
+    if (last - first + 1 > capacity_rows) {        // a query wider than planned (not the build)
+      capacity_rows = last - first + 1;
+      sum.resize(capacity_rows * stride), count.resize(capacity_rows * stride);
+    }
+    if (first < first_row || first > end) {
+      // Back south, or a jump north past the band: start a new band (a few rows below, for
+      // the neighbours that interpolation asks next).
+      first_row =
+          first - std::min(first, std::min(keep_below_rows, capacity_rows - (last - first + 1)));
+      filled_rows = 0;
+      end = first_row;
+    } else if (last >= first_row + capacity_rows) {
+      // Moving north: keep up to keep_below_rows rows south of `first`, move them to the start.
+      const std::size_t new_first = std::max(first_row, first - std::min(first, keep_below_rows));
+      const std::size_t keep_first =
+          std::max(new_first, last + 1 - std::min(last + 1, capacity_rows));
+      const std::size_t kept = end - keep_first;
+      std::copy_n(sum.data() + (keep_first - first_row) * stride, kept * stride, sum.data());
+      std::copy_n(count.data() + (keep_first - first_row) * stride, kept * stride, count.data());
+      first_row = keep_first;
+      filled_rows = kept;
+    }
+    for (std::size_t row = end; row <= last; ++row) compute_row(row);
+    filled_rows = last + 1 - first_row;
+  }
+
+ private:
+  void compute_row(std::size_t row) {
+    double* sums = sum.data() + (row - first_row) * stride;
+    std::uint32_t* counts = count.data() + (row - first_row) * stride;
+    sums[0] = 0.0, counts[0] = 0;
+    if (factor == 1) {
+      // One pass a row. (0.0 + v is v: the same sums as the blocks' loop would give.)
       const float* cells = grid.values.data() + row * grid.spec.cols;
-      double* sums = sum.data() + row * stride;
-      std::uint32_t* counts = count.data() + row * stride;
-      sums[0] = 0.0, counts[0] = 0;
       for (std::size_t col = 0; col < cols; ++col) {
         const float v = cells[col];
         const bool valid = !std::isnan(v);
         sums[col + 1] = sums[col] + (valid ? 0.0 + v : 0.0);
         counts[col + 1] = counts[col] + (valid ? 1u : 0u);
       }
+      return;
     }
-  }
-
-  void block_rows(const Grid& grid, std::size_t factor) {
-    std::vector<double> block_sum(cols);
-    std::vector<std::uint32_t> block_count(cols);
-    for (std::size_t row = 0; row < rows; ++row) {
-      std::fill(block_sum.begin(), block_sum.end(), 0.0);
-      std::fill(block_count.begin(), block_count.end(), 0);
-      // Each block's cells are added row by row, west to east (block by block: no division
-      // of the column by the factor per cell).
-      for (std::size_t r = row * factor; r < std::min(grid.spec.rows, (row + 1) * factor); ++r) {
-        const float* cells = grid.values.data() + r * grid.spec.cols;
-        for (std::size_t block = 0; block < cols; ++block) {
-          const std::size_t end = std::min(grid.spec.cols, (block + 1) * factor);
-          for (std::size_t col = block * factor; col < end; ++col) {
-            if (std::isnan(cells[col])) continue;
-            block_sum[block] += cells[col];
-            ++block_count[block];
-          }
+    std::fill(block_sum.begin(), block_sum.end(), 0.0);
+    std::fill(block_count.begin(), block_count.end(), 0);
+    // Each block's cells are added row by row, west to east (block by block: no division of
+    // the column by the factor per cell).
+    for (std::size_t r = row * factor; r < std::min(grid.spec.rows, (row + 1) * factor); ++r) {
+      const float* cells = grid.values.data() + r * grid.spec.cols;
+      for (std::size_t block = 0; block < cols; ++block) {
+        const std::size_t block_end = std::min(grid.spec.cols, (block + 1) * factor);
+        for (std::size_t col = block * factor; col < block_end; ++col) {
+          if (std::isnan(cells[col])) continue;
+          block_sum[block] += cells[col];
+          ++block_count[block];
         }
       }
-      double* sums = sum.data() + row * stride;
-      std::uint32_t* counts = count.data() + row * stride;
-      sums[0] = 0.0, counts[0] = 0;
-      for (std::size_t col = 0; col < cols; ++col) {
-        sums[col + 1] = sums[col] + block_sum[col];
-        counts[col + 1] = counts[col] + block_count[col];
-      }
+    }
+    for (std::size_t col = 0; col < cols; ++col) {
+      sums[col + 1] = sums[col] + block_sum[col];
+      counts[col + 1] = counts[col] + block_count[col];
     }
   }
 };
@@ -227,15 +283,16 @@ std::vector<long> disc_half_widths(double radius) {
   return half;
 }
 
-/// Sum and count of valid cells in the disc around block (col, row).
+/// Sum and count of valid cells in the disc around block (col, row); its rows must be in the
+/// band (RowPrefixSums::ensure).
 void disc_sum(const RowPrefixSums& p, const std::vector<long>& half, long col, long row,
               double& sum, std::uint64_t& count) {
   const long r = static_cast<long>(half.size() / 2);
   const long rows = static_cast<long>(p.rows), cols = static_cast<long>(p.cols);
   if (row - r >= 0 && row + r < rows && col - r >= 0 && col + r < cols) {
     // Inside the grid (the usual case): no clipping, the same sums in the same order.
-    const double* sums = p.sum.data() + static_cast<std::size_t>(row - r) * p.stride;
-    const std::uint32_t* counts = p.count.data() + static_cast<std::size_t>(row - r) * p.stride;
+    const double* sums = p.row_sums(static_cast<std::size_t>(row - r));
+    const std::uint32_t* counts = p.row_counts(static_cast<std::size_t>(row - r));
     std::uint64_t n = 0;
     for (const long w : half) {
       sum += sums[col + w + 1] - sums[col - w];
@@ -252,9 +309,10 @@ void disc_sum(const RowPrefixSums& p, const std::vector<long>& half, long col, l
     const auto x0 = static_cast<std::size_t>(std::max(0L, col - w));
     const auto x1 = static_cast<std::size_t>(std::min(cols, col + w + 1));
     if (x1 <= x0) continue;
-    const std::size_t base = static_cast<std::size_t>(y) * p.stride;
-    sum += p.sum[base + x1] - p.sum[base + x0];
-    count += p.count[base + x1] - p.count[base + x0];
+    const double* sums = p.row_sums(static_cast<std::size_t>(y));
+    const std::uint32_t* counts = p.row_counts(static_cast<std::size_t>(y));
+    sum += sums[x1] - sums[x0];
+    count += counts[x1] - counts[x0];
   }
 }
 
@@ -280,14 +338,15 @@ struct TpiPrefixSums : RowPrefixSums {
 };
 
 AnnulusTpi::AnnulusTpi(const Grid& elevation, double inner_m, double outer_m,
-                       double min_valid_fraction, TpiScratch* scratch)
+                       double min_valid_fraction, TpiRows rows)
     : elevation_(elevation),
       factor_(block_factor(outer_m / elevation.spec.cell_m)),
-      scratch_(scratch),
-      prefix_(std::make_unique<TpiPrefixSums>(elevation, factor_,
-                                              scratch ? std::move(*scratch) : TpiScratch{})),
       outer_(disc_half_widths(outer_m / (elevation.spec.cell_m * double(factor_)))),
       inner_(disc_half_widths(inner_m / (elevation.spec.cell_m * double(factor_)))),
+      // A query reads the outer disc's rows; interpolating between block means (factor > 1)
+      // reaches one block row further each way.
+      prefix_(std::make_unique<TpiPrefixSums>(elevation, factor_,
+                                              rows == TpiRows::all ? 0 : outer_.size() + 2)),
       min_valid_fraction_(min_valid_fraction),
       block_spec_(elevation.spec) {
   block_spec_.cell_m = elevation.spec.cell_m * double(factor_);
@@ -300,12 +359,7 @@ AnnulusTpi::AnnulusTpi(const Grid& elevation, double inner_m, double outer_m,
   if (factor_ > 1) allocate_cache();
 }
 
-AnnulusTpi::~AnnulusTpi() {
-  if (scratch_) {
-    scratch_->sums = std::move(prefix_->sum);
-    scratch_->counts = std::move(prefix_->count);
-  }
-}
+AnnulusTpi::~AnnulusTpi() = default;
 
 void AnnulusTpi::allocate_cache() {
   block_mean_.assign(block_spec_.size(), std::numeric_limits<float>::quiet_NaN());
@@ -315,6 +369,8 @@ void AnnulusTpi::allocate_cache() {
 float AnnulusTpi::compute_block_mean(std::size_t col, std::size_t row) const {
   double outer_sum = 0.0, inner_sum = 0.0;
   std::uint64_t outer_n = 0, inner_n = 0;
+  const auto r = static_cast<long>(outer_.size() / 2);  // the inner disc is within it
+  prefix_->ensure(long(row) - r, long(row) + r);
   disc_sum(*prefix_, outer_, long(col), long(row), outer_sum, outer_n);
   disc_sum(*prefix_, inner_, long(col), long(row), inner_sum, inner_n);
   const std::uint64_t n = outer_n - inner_n;
@@ -332,6 +388,8 @@ float AnnulusTpi::block_mean(std::size_t col, std::size_t row) {
 }
 
 void AnnulusTpi::compute_all() {
+  // Two threads on one band would each move it under the other.
+  if (!prefix_->all_rows) throw std::logic_error("AnnulusTpi::compute_all needs TpiRows::all");
   if (known_.empty()) allocate_cache();
   const std::size_t cols = block_spec_.cols;
   for_rows_on_two_cores(block_spec_.rows, [&](std::size_t row) {
@@ -371,7 +429,7 @@ float AnnulusTpi::at(std::size_t col, std::size_t row) {
 
 Grid topographic_position(const Grid& elevation, double inner_m, double outer_m,
                           double min_valid_fraction) {
-  AnnulusTpi annulus(elevation, inner_m, outer_m, min_valid_fraction);
+  AnnulusTpi annulus(elevation, inner_m, outer_m, min_valid_fraction, TpiRows::all);
   annulus.compute_all();  // then at() only reads: safe on both cores
   Grid tpi(elevation.spec);
   for_rows_on_two_cores(elevation.spec.rows, [&](std::size_t row) {
@@ -443,15 +501,25 @@ std::optional<double> finite(double v) {
   return std::isfinite(v) ? std::optional<double>(v) : std::nullopt;
 }
 
+/// The DEM elevations at a structure segment's ends (NaN, NaN if it has none).
+StructureEnds ends_of(const std::vector<StructureEnds>& structure_ends, std::size_t segment) {
+  const auto it =
+      std::lower_bound(structure_ends.begin(), structure_ends.end(), segment,
+                       [](const StructureEnds& e, std::size_t i) { return e.segment < i; });
+  return it != structure_ends.end() && it->segment == segment ? *it : StructureEnds{segment};
+}
+
 /// Elevation along a run of bridge/tunnel segments of a stroke, interpolated between the
 /// run's two ends (the structure's abutments or portals, which are on the ground), whose DEM
-/// elevations the samples hold as the end segments' start/end elevations.
+/// elevations are the end segments' start/end elevations.
 void assign_structure_run(RoadGraph& graph, const Stroke& stroke, std::size_t first,
-                          std::size_t last, const std::vector<TerrainSample>& samples) {
+                          std::size_t last, const std::vector<StructureEnds>& structure_ends) {
   const StrokeSegment& a = stroke.segments[first];
   const StrokeSegment& b = stroke.segments[last];
-  double z0 = a.reversed ? samples[a.segment].z_end_m : samples[a.segment].z_start_m;
-  double z1 = b.reversed ? samples[b.segment].z_start_m : samples[b.segment].z_end_m;
+  const StructureEnds ends_a = ends_of(structure_ends, a.segment);
+  const StructureEnds ends_b = ends_of(structure_ends, b.segment);
+  double z0 = a.reversed ? ends_a.z_end_m : ends_a.z_start_m;
+  double z1 = b.reversed ? ends_b.z_start_m : ends_b.z_end_m;
   if (std::isnan(z0)) z0 = z1;
   if (std::isnan(z1)) z1 = z0;
   if (std::isnan(z0)) return;  // neither end has elevation: NO_ELEVATION
@@ -497,26 +565,43 @@ TpiStandardisation standardisation(const GridStatistics& small, const GridStatis
           std::max(large.standard_deviation, p.tpi_large_min_sd_m)};
 }
 
+void store_terrain_sample(Segment& s, const TerrainSample& t) {
+  if (s.bridge || s.tunnel) return;  // elevation from the structure's ends (assign_terrain)
+  s.elevation_m = finite(t.z_mid_m);
+  if (!s.elevation_m) return;
+  s.slope_deg = finite(t.slope_deg);
+  if (s.length_m > 0.0) s.grade_percent = finite(100.0 * (t.z_end_m - t.z_start_m) / s.length_m);
+  s.tpi_small_m = finite(t.tpi_small_m);
+  s.tpi_large_m = finite(t.tpi_large_m);
+}
+
 void assign_terrain(RoadGraph& graph, const std::vector<TerrainSample>& samples,
                     const TpiStandardisation& z, const TerrainParameters& p) {
-  // The landform cost at each segment (NaN: unknown or a structure), for the windows.
-  std::vector<double> landform_cost(graph.segments.size(), kNaN);
+  std::vector<StructureEnds> structure_ends;
   for (std::size_t i = 0; i < graph.segments.size(); ++i) {
     Segment& s = graph.segments[i];
-    if (s.bridge || s.tunnel) continue;  // elevation from the structure's ends, below
-    const TerrainSample& t = samples[i];
-    s.elevation_m = finite(t.z_mid_m);
-    if (!s.elevation_m) continue;
-    s.slope_deg = finite(t.slope_deg);
-    if (s.length_m > 0.0) s.grade_percent = finite(100.0 * (t.z_end_m - t.z_start_m) / s.length_m);
-    s.tpi_small_m = finite(t.tpi_small_m);
-    s.tpi_large_m = finite(t.tpi_large_m);
+    store_terrain_sample(s, samples[i]);
+    if (s.bridge || s.tunnel)
+      structure_ends.push_back({i, samples[i].z_start_m, samples[i].z_end_m});
+  }
+  assign_terrain(graph, structure_ends, z, p);
+}
+
+void assign_terrain(RoadGraph& graph, const std::vector<StructureEnds>& structure_ends,
+                    const TpiStandardisation& z, const TerrainParameters& p) {
+  // The landform at each segment for the windows' costs (kNoLandform: unknown or a structure;
+  // a byte, not the cost itself: 1 byte a segment instead of 8 at the end of the stage).
+  constexpr std::uint8_t kNoLandform = 255;
+  std::vector<std::uint8_t> landform_of(graph.segments.size(), kNoLandform);
+  for (std::size_t i = 0; i < graph.segments.size(); ++i) {
+    Segment& s = graph.segments[i];
+    if (s.bridge || s.tunnel || !s.elevation_m) continue;  // structures: from their ends, below
     if (!s.tpi_small_m || !s.tpi_large_m) continue;
     const Landform landform = classify_landform((*s.tpi_small_m - z.small.mean) / z.small_sd_used,
                                                 (*s.tpi_large_m - z.large.mean) / z.large_sd_used,
                                                 s.slope_deg.value_or(0.0), p);
     s.landform = LandformLabel(landform);
-    landform_cost[i] = p.landform_cost[static_cast<std::size_t>(landform)];
+    landform_of[i] = static_cast<std::uint8_t>(landform);
     if (is_crest_or_dip(landform)) s.reasons.add("CREST_OR_DIP");
   }
   for_each_stroke(graph, [&](const Stroke& stroke) {
@@ -532,12 +617,15 @@ void assign_terrain(RoadGraph& graph, const std::vector<TerrainSample>& samples,
       }
       std::size_t last = i;
       while (last + 1 < stroke.segments.size() && is_structure(last + 1)) ++last;
-      assign_structure_run(graph, stroke, i, last, samples);
+      assign_structure_run(graph, stroke, i, last, structure_ends);
       i = last + 1;
     }
     std::vector<double> costs;
     costs.reserve(stroke.segments.size());
-    for (const StrokeSegment& ss : stroke.segments) costs.push_back(landform_cost[ss.segment]);
+    for (const StrokeSegment& ss : stroke.segments) {
+      const std::uint8_t landform = landform_of[ss.segment];
+      costs.push_back(landform == kNoLandform ? kNaN : p.landform_cost[landform]);
+    }
     const std::vector<double> mean =
         windowed_mean(stroke, costs, p.window_half_length_m, p.own_segment_weight);
     for (std::size_t k = 0; k < stroke.segments.size(); ++k) {
@@ -682,7 +770,8 @@ void copy_owned(const Grid& tile, const Owns& owns, Grid& stored) {
 /// TPI of one annulus on one tile, computed only where it is needed: at the cells of the
 /// statistics' lattice that the tile owns (their values appended to `lattice_tpi_m`, row by
 /// row, NaN left out) and at the four cells around each segment's midpoint (bilinear, exactly
-/// as sampling a whole TPI grid).
+/// as sampling a whole TPI grid). The cells are visited in one sweep south to north, lattice
+/// and segments' cells together, so that the annulus' prefix sums need only a band of rows.
 struct TileTpi {
   const Grid& elevation;
   const std::vector<char>& col_owned;
@@ -690,23 +779,60 @@ struct TileTpi {
   long long col0, row0;  ///< the tile's cell (0, 0) in the whole grid
   long long step, offset;
 
-  void run(AnnulusTpi& annulus, std::vector<float>& lattice_tpi_m, const RoadGraph& graph,
-           const std::vector<std::size_t>& segments, std::vector<TerrainSample>& samples,
+  void run(AnnulusTpi& annulus, std::vector<float>& lattice_tpi_m,
+           const std::vector<PlanePoint>& midpoints, std::vector<TerrainSample>& samples,
            float TerrainSample::*field) const {
     const GridSpec& g = elevation.spec;
-    for (std::size_t row = 0; row < g.rows; ++row) {
-      if (!row_owned[row] || (static_cast<long long>(row) + row0) % step != offset) continue;
-      for (std::size_t col = 0; col < g.cols; ++col) {
-        if (col_owned[col] && (static_cast<long long>(col) + col0) % step == offset) {
-          const float tpi_m = annulus.at(col, row);
-          if (!std::isnan(tpi_m)) lattice_tpi_m.push_back(tpi_m);
-        }
+    // The cells that each midpoint's bilinear sample reads (which ones does not depend on the
+    // values), in its order of reading, then their row by row order (a counting sort).
+    const std::size_t n = midpoints.size();
+    std::vector<std::uint32_t> corner_col(4 * n), corner_row(4 * n);
+    std::vector<std::uint32_t> rows_start(g.rows + 1, 0);
+    for (std::size_t k = 0; k < n; ++k) {
+      std::size_t j = 4 * k;
+      bilinear(g, midpoints[k].x, midpoints[k].y, [&](std::size_t c, std::size_t r) {
+        corner_col[j] = static_cast<std::uint32_t>(c);
+        corner_row[j] = static_cast<std::uint32_t>(r);
+        ++rows_start[r + 1];
+        ++j;
+        return 0.0;
+      });
+      // Outside the grid it reads none: marked as rows past the last.
+      for (; j < 4 * (k + 1); ++j) corner_row[j] = static_cast<std::uint32_t>(g.rows);
+    }
+    std::partial_sum(rows_start.begin(), rows_start.end(), rows_start.begin());
+    std::vector<std::uint32_t> by_row(rows_start.back());
+    {
+      std::vector<std::uint32_t> next(rows_start.begin(), rows_start.end() - 1);
+      for (std::size_t j = 0; j < 4 * n; ++j) {
+        if (corner_row[j] < g.rows) by_row[next[corner_row[j]]++] = static_cast<std::uint32_t>(j);
       }
     }
-    for (const std::size_t i : segments) {
-      const PlanePoint mid = segment_midpoint(graph, graph.segments[i]);
-      samples[i].*field = static_cast<float>(bilinear(
-          g, mid.x, mid.y, [&](std::size_t c, std::size_t r) { return annulus.at(c, r); }));
+    std::vector<float> corner_tpi_m(4 * n);
+    for (std::size_t row = 0; row < g.rows; ++row) {
+      if (row_owned[row] && (static_cast<long long>(row) + row0) % step == offset) {
+        for (std::size_t col = 0; col < g.cols; ++col) {
+          if (col_owned[col] && (static_cast<long long>(col) + col0) % step == offset) {
+            const float tpi_m = annulus.at(col, row);
+            if (!std::isnan(tpi_m)) lattice_tpi_m.push_back(tpi_m);
+          }
+        }
+      }
+      for (std::uint32_t i = rows_start[row]; i < rows_start[row + 1]; ++i) {
+        const std::uint32_t j = by_row[i];
+        corner_tpi_m[j] = annulus.at(corner_col[j], row);
+      }
+    }
+    for (std::size_t k = 0; k < n; ++k) {
+      std::size_t j = 4 * k;
+      samples[k].*field = static_cast<float>(
+          bilinear(g, midpoints[k].x, midpoints[k].y, [&](std::size_t c, std::size_t r) {
+            // The same reads in the same order as above.
+            if (c != corner_col[j] || r != corner_row[j]) {
+              throw std::logic_error("TileTpi: bilinear read another cell");
+            }
+            return corner_tpi_m[j++];
+          }));
     }
   }
 };
@@ -741,6 +867,7 @@ struct TileGrids {
 /// the landforms, are the same bits whichever thread finishes a tile first.
 struct TileResult {
   std::vector<float> small_lattice_tpi_m, large_lattice_tpi_m;
+  std::vector<StructureEnds> structure_ends;  ///< the tile's bridge and tunnel segments'
   std::vector<std::size_t> cells_per_source;
   std::size_t voids_filled = 0, cells_with_elevation = 0;
 };
@@ -768,15 +895,48 @@ class InOrderMerge {
 };
 
 /// What a thread keeps from tile to tile: its rasters, opened at their first tile (GDAL datasets
-/// are not thread-safe, and opening one per tile cost a GDALOpen and a PROJ set-up each time),
-/// and the storage of the TPI prefix sums.
+/// are not thread-safe, and opening one per tile cost a GDALOpen and a PROJ set-up each time).
 struct ThreadState {
   std::vector<std::unique_ptr<RasterElevation>> rasters;  ///< per source; null: not a raster
-  TpiScratch tpi;
   // The last tile's elevation cells and void-fill flags: reused pages cost no page fault
-  // (largest tiles first, so the first tile's storage holds every later one).
+  // (a fresh page costs ~5 us on this VM; most tiles are the full tile size).
   std::vector<float> elevation_cells;
   std::vector<char> void_queued;
+};
+
+/// The segments of each tile (those whose midpoint it holds), in segment order, as one array
+/// of 32-bit indices: 4 bytes a segment (a vector of 64-bit indices per tile, grown by
+/// push_back, took ~12 at 200x Monaco).
+class SegmentsByTile {
+ public:
+  SegmentsByTile(const RoadGraph& graph, const TileLayout& layout)
+      : first_(layout.cols * layout.rows + 1, 0) {
+    if (graph.segments.size() > std::numeric_limits<std::uint32_t>::max()) {
+      throw std::length_error("the terrain stage handles at most 2^32 - 1 segments, not " +
+                              std::to_string(graph.segments.size()));
+    }
+    std::vector<std::uint32_t> tile_of(graph.segments.size());
+    for (std::size_t i = 0; i < graph.segments.size(); ++i) {
+      const auto tile =
+          static_cast<std::uint32_t>(layout.tile_of(segment_midpoint(graph, graph.segments[i])));
+      tile_of[i] = tile;
+      ++first_[tile + 1];
+    }
+    std::partial_sum(first_.begin(), first_.end(), first_.begin());
+    segments_.resize(graph.segments.size());
+    std::vector<std::size_t> next(first_.begin(), first_.end() - 1);
+    for (std::size_t i = 0; i < tile_of.size(); ++i) {
+      segments_[next[tile_of[i]]++] = static_cast<std::uint32_t>(i);
+    }
+  }
+  std::size_t tiles() const { return first_.size() - 1; }
+  std::span<const std::uint32_t> operator[](std::size_t tile) const {
+    return {segments_.data() + first_[tile], first_[tile + 1] - first_[tile]};
+  }
+
+ private:
+  std::vector<std::size_t> first_;  ///< tile t's segments: [first_[t], first_[t + 1])
+  std::vector<std::uint32_t> segments_;
 };
 
 /// One tile's analysis, start to end on one thread: the tiles run two at a time, one per core,
@@ -784,24 +944,25 @@ struct ThreadState {
 /// grid) leaves a core idle. Tiles write only their own segments' samples and their own cells
 /// of the stored grid.
 struct TileJob {
-  const RoadGraph& graph;
+  RoadGraph& graph;  ///< each tile writes the terrain fields of its own segments only
   const TerrainInputs& inputs;
   const TerrainParameters& p;
   const GridSpec& whole;  ///< the whole terrain grid
   const TileGrids& grids;
-  const std::vector<std::vector<std::size_t>>& segments_of_tile;
+  const SegmentsByTile& segments_of_tile;
   long long small_step, large_step, large_offset;  ///< the statistics' lattices, cells
   XyzTileBins& xyz_bins;
   std::mutex& xyz_mutex;
   Grid& stored;
-  std::vector<TerrainSample>& samples;
 
   TileResult run(std::size_t tile, ThreadState& thread) const;
 
  private:
   void fill_elevation(std::size_t tile, Grid& elevation, ThreadState& thread,
                       TileResult& out) const;
-  void sample_elevation(const Grid& elevation, const std::vector<std::size_t>& segments) const;
+  void sample_elevation(const Grid& elevation, std::span<const std::uint32_t> segments,
+                        const std::vector<PlanePoint>& midpoints,
+                        std::vector<TerrainSample>& samples) const;
   void store(std::size_t tile, const Grid& elevation, const std::vector<char>& col_owned,
              const std::vector<char>& row_owned) const;
 };
@@ -829,13 +990,14 @@ void TileJob::fill_elevation(std::size_t tile, Grid& elevation, ThreadState& thr
   }
 }
 
-void TileJob::sample_elevation(const Grid& elevation,
-                               const std::vector<std::size_t>& segments) const {
+void TileJob::sample_elevation(const Grid& elevation, std::span<const std::uint32_t> segments,
+                               const std::vector<PlanePoint>& midpoints,
+                               std::vector<TerrainSample>& samples) const {
   // Elevations and slope (Horn's, at the four cells around the midpoint).
-  for (const std::size_t i : segments) {
-    const Segment& s = graph.segments[i];
-    const PlanePoint mid = segment_midpoint(graph, s);
-    TerrainSample& t = samples[i];
+  for (std::size_t k = 0; k < segments.size(); ++k) {
+    const Segment& s = graph.segments[segments[k]];
+    const PlanePoint mid = midpoints[k];
+    TerrainSample& t = samples[k];
     t.z_mid_m = static_cast<float>(elevation.sample(mid.x, mid.y));
     const std::span<const PlanePoint> line = graph.line(s);
     t.z_start_m = static_cast<float>(elevation.sample(line.front().x, line.front().y));
@@ -897,18 +1059,23 @@ TileResult TileJob::run(std::size_t tile, ThreadState& thread) const {
   // on multiples of align_m.
   const auto col0 = std::llround((g.west_m - whole.west_m) / g.cell_m);
   const auto row0 = std::llround((g.south_m - whole.south_m) / g.cell_m);
-  const std::vector<std::size_t>& segments = segments_of_tile[tile];
+  const std::span<const std::uint32_t> segments = segments_of_tile[tile];
+  // The tile's segments' samples, written into the segments at the end of the tile (the whole
+  // map's samples took 24 bytes a segment through the stage).
+  std::vector<TerrainSample> samples(segments.size());
+  std::vector<PlanePoint> midpoints(segments.size());
+  for (std::size_t k = 0; k < segments.size(); ++k) {
+    midpoints[k] = segment_midpoint(graph, graph.segments[segments[k]]);
+  }
   {  // one annulus at a time: each has its own prefix sums and block means
-    AnnulusTpi small(elevation, p.tpi_small_inner_m, p.tpi_small_outer_m, p.tpi_min_valid_fraction,
-                     &thread.tpi);
+    AnnulusTpi small(elevation, p.tpi_small_inner_m, p.tpi_small_outer_m, p.tpi_min_valid_fraction);
     TileTpi{elevation, col_owned, row_owned, col0, row0, small_step, 0}.run(
-        small, out.small_lattice_tpi_m, graph, segments, samples, &TerrainSample::tpi_small_m);
+        small, out.small_lattice_tpi_m, midpoints, samples, &TerrainSample::tpi_small_m);
   }
   {
-    AnnulusTpi large(elevation, p.tpi_large_inner_m, p.tpi_large_outer_m, p.tpi_min_valid_fraction,
-                     &thread.tpi);
+    AnnulusTpi large(elevation, p.tpi_large_inner_m, p.tpi_large_outer_m, p.tpi_min_valid_fraction);
     TileTpi{elevation, col_owned, row_owned, col0, row0, large_step, large_offset}.run(
-        large, out.large_lattice_tpi_m, graph, segments, samples, &TerrainSample::tpi_large_m);
+        large, out.large_lattice_tpi_m, midpoints, samples, &TerrainSample::tpi_large_m);
   }
   for (std::size_t row = 0; row < g.rows; ++row) {
     if (!row_owned[row]) continue;
@@ -916,10 +1083,24 @@ TileResult TileJob::run(std::size_t tile, ThreadState& thread) const {
       if (col_owned[col]) out.cells_with_elevation += std::isnan(elevation.at(col, row)) ? 0 : 1;
     }
   }
-  sample_elevation(elevation, segments);
+  sample_elevation(elevation, segments, midpoints, samples);
+  for (std::size_t k = 0; k < segments.size(); ++k) {
+    Segment& s = graph.segments[segments[k]];
+    store_terrain_sample(s, samples[k]);
+    if (s.bridge || s.tunnel) {
+      out.structure_ends.push_back({segments[k], samples[k].z_start_m, samples[k].z_end_m});
+    }
+  }
   store(tile, elevation, col_owned, row_owned);
   thread.elevation_cells = std::move(elevation.values);
   return out;
+}
+
+/// Gives the heap's free pages back to the system (glibc keeps them otherwise).
+void return_free_heap_pages() {
+#if defined(__GLIBC__)
+  malloc_trim(0);
+#endif
 }
 
 /// Runs job(k, state) for k in [0, count) on two threads, each with its own ThreadState, taking
@@ -968,10 +1149,7 @@ TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
       1, static_cast<std::size_t>(std::ceil((roads.max_e - roads.min_e) / p.tile_size_m)));
   layout.rows = std::max<std::size_t>(
       1, static_cast<std::size_t>(std::ceil((roads.max_n - roads.min_n) / p.tile_size_m)));
-  std::vector<std::vector<std::size_t>> segments_of_tile(layout.cols * layout.rows);
-  for (std::size_t i = 0; i < graph.segments.size(); ++i) {
-    segments_of_tile[layout.tile_of(segment_midpoint(graph, graph.segments[i]))].push_back(i);
-  }
+  const SegmentsByTile segments_of_tile(graph, layout);
   const TileGrids grids{graph.zone, roads, layout, halo_m, p.cell_size_m, align_m};
 
   const std::size_t factor = std::max<std::size_t>(
@@ -986,8 +1164,8 @@ TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
   }
   // XYZ points go to the tiles whose grid, grown by one longest TIN edge, holds them: exactly
   // the points fill_from_points would take from all of them.
-  std::vector<UtmBox> xyz_boxes(segments_of_tile.size(), UtmBox{1.0, 1.0, 0.0, 0.0});
-  for (std::size_t tile = 0; tile < segments_of_tile.size() && !xyz_files.empty(); ++tile) {
+  std::vector<UtmBox> xyz_boxes(segments_of_tile.tiles(), UtmBox{1.0, 1.0, 0.0, 0.0});
+  for (std::size_t tile = 0; tile < segments_of_tile.tiles() && !xyz_files.empty(); ++tile) {
     if (segments_of_tile[tile].empty()) continue;
     const GridSpec g = grids(tile);
     xyz_boxes[tile] = {g.west_m - p.tin_max_edge_m, g.south_m - p.tin_max_edge_m,
@@ -1006,7 +1184,7 @@ TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
   }
   progress.start_stage("terrain", "tiles");
   std::vector<std::size_t> cells_per_source(inputs.sources.size(), 0);
-  std::vector<TerrainSample> samples(graph.segments.size());
+  std::vector<StructureEnds> structure_ends;
   RunningStatistics small_stats, large_stats;
   // The statistics' lattice: every statistics_step-th cell each way, finer on small grids so
   // that it still holds kMinStatisticsCells (a map of a few km is then exact, and cheap).
@@ -1026,24 +1204,24 @@ TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
   const long long small_step = statistics_step;
 
   std::vector<std::size_t> tiles;  // those with segments, in tile order
-  for (std::size_t tile = 0; tile < segments_of_tile.size(); ++tile) {
+  for (std::size_t tile = 0; tile < segments_of_tile.tiles(); ++tile) {
     if (!segments_of_tile[tile].empty()) tiles.push_back(tile);
   }
-  // Largest tiles first, so that the two threads run out of work at about the same time.
-  std::vector<std::size_t> order(tiles.size());
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return grids(tiles[a]).size() > grids(tiles[b]).size();
-  });
+  // In tile order (rows south to north). The statistics are summed in tile order
+  // (InOrderMerge): a tile finished before an earlier one waits with its lattice values, ~1 MB
+  // a full tile. Largest tiles first (for the threads to finish together) ran the east column's
+  // narrower tiles last, so that nearly every tile waited for the first of them: +160 MiB at
+  // 200x Monaco by the end of the stage. In tile order the narrower last row still comes last.
   std::mutex xyz_mutex;
-  const TileJob job{
-      graph,      inputs,       p,        report.grid, grids,  segments_of_tile, small_step,
-      large_step, large_offset, xyz_bins, xyz_mutex,   stored, samples};
+  const TileJob job{graph,        inputs,           p,          report.grid,
+                    grids,        segments_of_tile, small_step, large_step,
+                    large_offset, xyz_bins,         xyz_mutex,  stored};
   InOrderMerge merge(tiles.size());
   std::size_t tiles_done = 0;
   const auto add_to_totals = [&](const TileResult& r) {
     for (const float v : r.small_lattice_tpi_m) small_stats.add(v);
     for (const float v : r.large_lattice_tpi_m) large_stats.add(v);
+    structure_ends.insert(structure_ends.end(), r.structure_ends.begin(), r.structure_ends.end());
     for (std::size_t k = 0; k < cells_per_source.size(); ++k) {
       cells_per_source[k] += r.cells_per_source[k];
     }
@@ -1051,9 +1229,12 @@ TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
     report.cells_with_elevation += r.cells_with_elevation;
     progress.update(++tiles_done, tiles.size());
   };
-  run_on_two_cores(order.size(), [&](std::size_t k, ThreadState& thread) {
-    merge.add(order[k], job.run(tiles[order[k]], thread), add_to_totals);
+  run_on_two_cores(tiles.size(), [&](std::size_t k, ThreadState& thread) {
+    merge.add(k, job.run(tiles[k], thread), add_to_totals);
   });
+  // The tiles' freed grids and lattice values leave free pages in the threads' heaps; given
+  // back, they do not add to the later stages' peak (the terrain grid's write at 200x).
+  return_free_heap_pages();
   const std::size_t tiles_total = tiles.size();
   bool xyz_reported = false;  // the TIN of all XYZ files is counted at the first of them
   for (std::size_t k = 0; k < inputs.sources.size(); ++k) {
@@ -1071,7 +1252,9 @@ TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
                      "all (wrong file, or wrong --elevation-crs?)");
   }
   const TpiStandardisation z = standardisation(small_stats.result(), large_stats.result(), p);
-  assign_terrain(graph, samples, z, p);
+  std::sort(structure_ends.begin(), structure_ends.end(),
+            [](const StructureEnds& a, const StructureEnds& b) { return a.segment < b.segment; });
+  assign_terrain(graph, structure_ends, z, p);
   for (const Segment& s : graph.segments) {
     report.segments_without_elevation += s.elevation_cost ? 0 : 1;
     report.structure_segments += (s.bridge || s.tunnel) ? 1 : 0;

@@ -145,24 +145,43 @@ TEST(Terrain, TpiOfOneRaisedCellIsItsShareOfTheAnnulus) {
   // Flat at 0 m but one cell of 100 m, 4 cells (20 m) east of the cell asked about. The small
   // annulus 10 < d <= 50 m on 5 m cells holds the cells at 2 < d <= 10 cells: 317 lattice points
   // within radius 10 (Gauss's circle problem) minus 13 within radius 2 = 304 cells, so the TPI
-  // is 0 - 100 / 304. A raised cell at exactly 2 cells is inside the inner disc: TPI 0. The
-  // prefix sums' storage comes from a bigger grid's (stale values must not leak in).
+  // is 0 - 100 / 304. A raised cell at exactly 2 cells is inside the inner disc: TPI 0.
   rp::Grid grid = grid_of([](double, double) { return 0.0; }, 200.0);  // 80 x 80 cells
   grid.at(44, 40) = 100.0f;
-  rp::TpiScratch scratch;
-  scratch.sums.assign(100000, 1e9);
-  scratch.counts.assign(100000, 7);
-  {
-    rp::AnnulusTpi tpi(grid, 10.0, 50.0, 0.5, &scratch);
-    EXPECT_FLOAT_EQ(tpi.at(40, 40), static_cast<float>(-100.0 / 304.0));
-    EXPECT_FLOAT_EQ(tpi.at(42, 40), 0.0f);  // 2 cells away: not in the annulus
-    // 10 cells away: on the outer disc's edge, in; 11: outside.
-    EXPECT_FLOAT_EQ(tpi.at(34, 40), static_cast<float>(-100.0 / 304.0));
-    EXPECT_FLOAT_EQ(tpi.at(33, 40), 0.0f);
+  rp::AnnulusTpi tpi(grid, 10.0, 50.0, 0.5);
+  EXPECT_FLOAT_EQ(tpi.at(40, 40), static_cast<float>(-100.0 / 304.0));
+  EXPECT_FLOAT_EQ(tpi.at(42, 40), 0.0f);  // 2 cells away: not in the annulus
+  // 10 cells away: on the outer disc's edge, in; 11: outside.
+  EXPECT_FLOAT_EQ(tpi.at(34, 40), static_cast<float>(-100.0 / 304.0));
+  EXPECT_FLOAT_EQ(tpi.at(33, 40), 0.0f);
+}
+
+TEST(Terrain, TpiPrefixSumBandGivesTheSameInAnyOrder) {
+  // A tall grid (60 x 600 cells) rising 1 m a row northwards, with two cells raised 100 m
+  // above it, 540 rows apart. The prefix sums are held for a band of 184 rows (8 query windows
+  // of 21 + 2 rows), so a sweep north moves the band forward, asking at the far raised cell
+  // jumps it, and coming back south restarts it. By hand: the annulus is symmetric about its
+  // cell, so the plane's mean over it is the cell's own height (all sums are whole numbers:
+  // exact) and the TPI is 0; 4 cells from a raised cell it is -100 / 304 (as above), and at
+  // the raised cell +100. A row of the band read at the wrong place would be off by metres.
+  rp::Grid grid(rp::grid_covering(kZone, kE0, kN0, kE0 + 300.0, kN0 + 3000.0, 0.0, 5.0));
+  ASSERT_EQ(grid.spec.rows, 600u);
+  for (std::size_t row = 0; row < grid.spec.rows; ++row) {
+    for (std::size_t col = 0; col < grid.spec.cols; ++col) grid.at(col, row) = float(row);
   }
-  EXPECT_GE(scratch.sums.size(), 80u * 81u);  // given back for the next tile
-  rp::AnnulusTpi again(grid, 10.0, 50.0, 0.5, &scratch);
-  EXPECT_FLOAT_EQ(again.at(40, 40), static_cast<float>(-100.0 / 304.0));
+  grid.at(30, 40) += 100.0f;
+  grid.at(30, 580) += 100.0f;
+  const double share = -100.0 / 304.0;
+  rp::AnnulusTpi tpi(grid, 10.0, 50.0, 0.5);
+  EXPECT_NEAR(tpi.at(26, 40), share, 1e-4);
+  for (std::size_t row = 41; row < 400; ++row) EXPECT_EQ(tpi.at(20, row), 0.0f) << row;
+  EXPECT_NEAR(tpi.at(30, 576), share, 1e-4);  // a jump past the band
+  EXPECT_EQ(tpi.at(30, 150), 0.0f);           // back south: the band restarts
+  EXPECT_NEAR(tpi.at(30, 36), share, 1e-4);
+  EXPECT_NEAR(tpi.at(34, 40), share, 1e-4);
+  EXPECT_NEAR(tpi.at(30, 570), share, 1e-4);  // 10 rows from the raised cell: on the edge, in
+  EXPECT_EQ(tpi.at(30, 569), 0.0f);           // 11 rows: out
+  EXPECT_NEAR(tpi.at(30, 580), 100.0, 1e-4);
 }
 
 TEST(Terrain, LargeTpiAtABlockCentreIsItsOwnBlocksMean) {
@@ -191,16 +210,25 @@ TEST(Terrain, TpiAtSingleCellsIsTheWholeGridsTpi) {
   }
   for (const auto& [inner_m, outer_m] : {std::pair{10.0, 50.0}, std::pair{100.0, 300.0}}) {
     const rp::Grid whole = rp::topographic_position(grid, inner_m, outer_m, 0.5);
-    rp::AnnulusTpi lazy(grid, inner_m, outer_m, 0.5);
+    // South to north (the build's order: the prefix sums' band moves north) and north to south
+    // (every query restarts the band): the same bits.
+    rp::AnnulusTpi lazy(grid, inner_m, outer_m, 0.5), backwards(grid, inner_m, outer_m, 0.5);
     std::size_t compared = 0, valid = 0;
     for (std::size_t row = 3; row < grid.spec.rows; row += 7) {
       for (std::size_t col = 1; col < grid.spec.cols; col += 11) {
         const float expected = whole.at(col, row), got = lazy.at(col, row);
+        const std::size_t back_row = grid.spec.rows - 1 - row;
+        const float back_expected = whole.at(col, back_row), back = backwards.at(col, back_row);
         if (std::isnan(expected)) {
           EXPECT_TRUE(std::isnan(got)) << col << " " << row;
         } else {
           EXPECT_EQ(got, expected) << col << " " << row;
           ++valid;
+        }
+        if (std::isnan(back_expected)) {
+          EXPECT_TRUE(std::isnan(back)) << col << " " << back_row;
+        } else {
+          EXPECT_EQ(back, back_expected) << col << " " << back_row;
         }
         ++compared;
       }

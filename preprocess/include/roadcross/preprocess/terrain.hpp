@@ -93,11 +93,16 @@ float slope_at(const Grid& elevation, std::size_t col, std::size_t row);
 
 struct TpiPrefixSums;
 
-/// Memory that AnnulusTpi's prefix sums can reuse from one tile to the next: fresh pages of a
-/// tile's ~50 MB of sums cost a page fault and the kernel's zeroing each.
-struct TpiScratch {
-  std::vector<double> sums;
-  std::vector<std::uint32_t> counts;
+/// Which rows' prefix sums an AnnulusTpi holds.
+enum class TpiRows {
+  /// A band of rows around the rows last asked about (~8 annulus diameters, ~5 MB for a 10 km
+  /// tile), computed as the queries move north: at() is cheapest called row by row, south to
+  /// north (any order gives the same values; going back south recomputes rows). Not
+  /// thread-safe.
+  band,
+  /// Every row, computed at once (12 bytes a cell or block): compute_all() and then at() may
+  /// run on several threads.
+  all,
 };
 
 /// TPI of single cells, computed where asked: the cell's elevation minus the mean elevation of
@@ -107,18 +112,17 @@ struct TpiScratch {
 /// at the centres of blocks of cells and interpolated (it is smooth); block means are kept once
 /// computed (cell means, for small radii, are not: a cell is rarely asked twice). NaN where the
 /// cell has no elevation or less than `min_valid_fraction` of the annulus has. at() is not
-/// thread-safe unless compute_all() ran first.
+/// thread-safe unless the rows are TpiRows::all and compute_all() ran first.
 class AnnulusTpi {
  public:
-  /// `scratch` (optional): storage for the prefix sums, given back when this is destroyed.
   AnnulusTpi(const Grid& elevation, double inner_m, double outer_m, double min_valid_fraction,
-             TpiScratch* scratch = nullptr);
+             TpiRows rows = TpiRows::band);
   ~AnnulusTpi();
   AnnulusTpi(const AnnulusTpi&) = delete;
   AnnulusTpi& operator=(const AnnulusTpi&) = delete;
 
   float at(std::size_t col, std::size_t row);
-  /// Every block mean, on both cores.
+  /// Every block mean, on both cores (TpiRows::all only).
   void compute_all();
 
  private:
@@ -129,9 +133,8 @@ class AnnulusTpi {
 
   const Grid& elevation_;
   std::size_t factor_;
-  TpiScratch* scratch_;
+  std::vector<long> outer_, inner_;  ///< the discs' half-widths per row offset, blocks
   std::unique_ptr<TpiPrefixSums> prefix_;
-  std::vector<long> outer_, inner_;
   double min_valid_fraction_;
   double full_annulus_ = 0.0;
   GridSpec block_spec_;            ///< the blocks' grid (the cells' at factor 1)
@@ -185,8 +188,25 @@ struct TpiStandardisation {
 TpiStandardisation standardisation(const GridStatistics& small, const GridStatistics& large,
                                    const TerrainParameters& parameters);
 
-/// From every segment's sample: the terrain fields, landform, CREST_OR_DIP, bridges and tunnels
-/// from their ends, the windowed elevation cost, and NO_ELEVATION where there is none.
+/// A bridge or tunnel segment's DEM elevations at its start and end, metres (NaN: none): a
+/// structure's elevation is interpolated between the ends of its run of segments.
+struct StructureEnds {
+  std::size_t segment = 0;  ///< index into RoadGraph::segments
+  float z_start_m = NAN, z_end_m = NAN;
+};
+
+/// What a segment takes from its own sample: elevation, slope, grade and both TPI. Nothing for
+/// a bridge or tunnel (assign_terrain: from the structure's ends), and only the (absent)
+/// elevation where the midpoint has none.
+void store_terrain_sample(Segment& segment, const TerrainSample& sample);
+
+/// From the fields store_terrain_sample wrote and the structure segments' ends (sorted by
+/// segment): landform, CREST_OR_DIP, bridges and tunnels from their ends, the windowed
+/// elevation cost, and NO_ELEVATION where there is none.
+void assign_terrain(RoadGraph& graph, const std::vector<StructureEnds>& structure_ends,
+                    const TpiStandardisation& standardisation, const TerrainParameters& parameters);
+
+/// The same from every segment's sample (store_terrain_sample on each, then the above).
 void assign_terrain(RoadGraph& graph, const std::vector<TerrainSample>& samples,
                     const TpiStandardisation& standardisation, const TerrainParameters& parameters);
 
