@@ -9,7 +9,9 @@
 #include <osmium/osm/relation.hpp>
 #include <osmium/osm/way.hpp>
 #include <stdexcept>
+#include <limits>
 #include <thread>
+#include <utility>
 
 #include "roadcross/preprocess/sight.hpp"
 
@@ -75,7 +77,11 @@ void ObstacleReader::way(const osmium::Way& way) {
   if (std::isnan(top_m)) top_m = default_m, ++report_.default_height;
   const auto bottom = static_cast<float>(bottom_m), top = static_cast<float>(top_m);
   if (way.nodes().size() < 2 || !(top > bottom)) return;
-  ways_.push_back({refs_.size(), bottom, top});
+  // Slot numbers (a header per way, then one per reference) must fit the edge ids.
+  if (refs_.size() + ways_.size() + 1 + way.nodes().size() > std::numeric_limits<std::uint32_t>::max())
+    throw std::length_error("sight: more than 2^32 - 1 obstacle node references");
+  const bool closed = way.nodes().front().ref() == way.nodes().back().ref();
+  ways_.push_back({static_cast<std::uint32_t>(refs_.size() + ways_.size()), bottom, top, closed});
   for (const osmium::NodeRef& ref : way.nodes()) refs_.push_back(ref.ref());
 }
 
@@ -87,38 +93,37 @@ void ObstacleReader::relation(const osmium::Relation& relation) {
 }
 
 void ObstacleReader::ways_done() {
-  node_ids_ = refs_;
-  std::sort(node_ids_.begin(), node_ids_.end());
-  node_ids_.erase(std::unique(node_ids_.begin(), node_ids_.end()), node_ids_.end());
-  node_ids_.shrink_to_fit();
-  // The references become positions in node_ids_ (half the size), read in place.
-  ref_nodes_.resize(refs_.size());
-  // A building's nodes usually have consecutive ids: try the one after the previous first.
-  std::size_t at = 0;
-  for (std::size_t i = 0; i < refs_.size(); ++i) {
-    if (at + 1 < node_ids_.size() && node_ids_[at + 1] == refs_[i]) {
-      ++at;
-    } else if (node_ids_[at] != refs_[i]) {
-      at = static_cast<std::size_t>(std::lower_bound(node_ids_.begin(), node_ids_.end(), refs_[i]) -
-                                    node_ids_.begin());
+  node_slots_.resize(refs_.size());
+  std::size_t r = 0;
+  for (std::size_t w = 0; w < ways_.size(); ++w) {
+    const std::size_t end = w + 1 < ways_.size() ? ways_[w + 1].first_slot : refs_.size() + ways_.size();
+    for (std::size_t slot = ways_[w].first_slot + 1; slot < end; ++slot, ++r) {
+      const auto id = static_cast<std::uint64_t>(refs_[r]);
+      node_slots_[r] = {static_cast<std::uint32_t>(id), static_cast<std::uint32_t>(id >> 32),
+                        static_cast<std::uint32_t>(slot)};
     }
-    ref_nodes_[i] = static_cast<std::uint32_t>(at);
   }
+  const std::size_t slots = refs_.size() + ways_.size();
   std::vector<std::int64_t>().swap(refs_);
-  nodes_.assign(node_ids_.size(), PlanePoint{NAN, NAN});
+  // By id alone: the slots of one node all get the same location, in any order.
+  std::sort(node_slots_.begin(), node_slots_.end(),
+            [](const NodeSlot& x, const NodeSlot& y) { return x.id() < y.id(); });
+  slots_.assign(slots, PlanePoint{NAN, NAN});
 }
 
 void ObstacleReader::nodes_done() {
   // The ids only served the lookup in node(): the segment table and the edges come next.
-  std::vector<std::int64_t>().swap(node_ids_);
+  std::vector<NodeSlot>().swap(node_slots_);
 }
 
 void ObstacleReader::node(const osmium::Node& node) {
-  const auto it = std::lower_bound(node_ids_.begin(), node_ids_.end(), node.id());
-  if (it == node_ids_.end() || *it != node.id()) return;
+  auto it = std::lower_bound(node_slots_.begin(), node_slots_.end(), node.id(),
+                             [](const NodeSlot& x, std::int64_t id) { return x.id() < id; });
+  if (it == node_slots_.end() || it->id() != node.id()) return;
   const osmium::Location l = node.location();
   if (!l.valid()) return;
-  nodes_[static_cast<std::size_t>(it - node_ids_.begin())] = {l.lon(), l.lat()};
+  const PlanePoint lon_lat{l.lon(), l.lat()};
+  for (; it != node_slots_.end() && it->id() == node.id(); ++it) slots_[it->slot] = lon_lat;
 }
 
 Obstacles ObstacleReader::take_edges(const geo::UtmZone& zone, const PlanePoint& min,
@@ -130,54 +135,87 @@ Obstacles ObstacleReader::take_edges(const geo::UtmZone& zone, const PlanePoint&
   constexpr double kLongEdgeM = 1000.0;
   const double node_reach_m = reach_m + kLongEdgeM;
   // (lon, lat) -> UTM in place, NaN when missing or far; on every core (the projection is most
-  // of this stage's time).
+  // of this stage's time). A closed way's last vertex is its first node again: copied.
+  const auto project_one = [&](PlanePoint& q) {
+    if (std::isnan(q.x)) return;
+    bool kept = false;
+    geo::UtmPoint u;
+    try {
+      u = geo::wgs84_to_utm(q.y, q.x, zone);
+      kept = u.easting_m >= min.x - node_reach_m && u.easting_m <= max.x + node_reach_m &&
+             u.northing_m >= min.y - node_reach_m && u.northing_m <= max.y + node_reach_m;
+    } catch (const std::invalid_argument&) {
+      // Too far from the roads' UTM zone to project: far from every road as well.
+    }
+    q = kept ? PlanePoint{u.easting_m, u.northing_m} : PlanePoint{NAN, NAN};
+  };
   const auto project = [&](std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i) {
-      PlanePoint& q = nodes_[i];
-      if (std::isnan(q.x)) continue;
-      bool kept = false;
-      geo::UtmPoint u;
-      try {
-        u = geo::wgs84_to_utm(q.y, q.x, zone);
-        kept = u.easting_m >= min.x - node_reach_m && u.easting_m <= max.x + node_reach_m &&
-               u.northing_m >= min.y - node_reach_m && u.northing_m <= max.y + node_reach_m;
-      } catch (const std::invalid_argument&) {
-        // Too far from the roads' UTM zone to project: far from every road as well.
+    for (std::size_t w = begin; w < end; ++w) {
+      const std::size_t first = ways_[w].first_slot + 1, last = end_slot(w) - 1;
+      for (std::size_t i = first; i < last; ++i) project_one(slots_[i]);
+      if (ways_[w].closed) {
+        slots_[last] = slots_[first];
+      } else {
+        project_one(slots_[last]);
       }
-      q = kept ? PlanePoint{u.easting_m, u.northing_m} : PlanePoint{NAN, NAN};
     }
   };
   const std::size_t threads = std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1, 16);
   std::vector<std::thread> pool;
-  const std::size_t chunk = (nodes_.size() + threads - 1) / threads;
+  const std::size_t chunk = (ways_.size() + threads - 1) / threads;
   for (std::size_t t = 1; t < threads; ++t) {
-    pool.emplace_back(project, std::min(nodes_.size(), t * chunk),
-                      std::min(nodes_.size(), (t + 1) * chunk));
+    pool.emplace_back(project, std::min(ways_.size(), t * chunk),
+                      std::min(ways_.size(), (t + 1) * chunk));
   }
-  project(0, std::min(nodes_.size(), chunk));
+  project(0, std::min(ways_.size(), chunk));
   for (std::thread& t : pool) t.join();
   // Only edges a sight line can meet: within reach of the roads' box.
   const auto near = [&](const PlanePoint& a, const PlanePoint& b) {
     return std::max(a.x, b.x) >= min.x - reach_m && std::min(a.x, b.x) <= max.x + reach_m &&
            std::max(a.y, b.y) >= min.y - reach_m && std::min(a.y, b.y) <= max.y + reach_m;
   };
-  out.edges.reserve(ref_nodes_.size() - ways_.size());  // at most: no doubling at the peak
+  // Each way's maximal chains of kept edges become runs, written in place over the slots read
+  // (a way's runs take no more slots than it had, unless a far edge between two kept ones cuts
+  // a chain: such a way's runs go to `overflow`, appended at the end).
+  std::vector<PlanePoint> way_vertices, overflow;
+  std::vector<std::pair<std::size_t, std::size_t>> chains;  // [first, last] vertex, all kept
+  PlanePoint* const base = slots_.data();
+  PlanePoint* write = base;
   for (std::size_t w = 0; w < ways_.size(); ++w) {
-    const std::size_t end = w + 1 < ways_.size() ? ways_[w + 1].first_ref : ref_nodes_.size();
-    for (std::size_t i = ways_[w].first_ref + 1; i < end; ++i) {
-      const PlanePoint& a = nodes_[ref_nodes_[i - 1]];
-      const PlanePoint& b = nodes_[ref_nodes_[i]];
-      if (!std::isnan(a.x) && !std::isnan(b.x) && near(a, b)) {
-        out.edges.push_back({a, b, ways_[w].bottom_m, ways_[w].top_m});
+    const PlanePoint* first = base + ways_[w].first_slot + 1;
+    const PlanePoint* end = base + end_slot(w);
+    way_vertices.assign(first, end);
+    const std::size_t n = way_vertices.size();
+    chains.clear();
+    std::size_t needed = 0;
+    for (std::size_t i = 1, chain_begin = 0; i <= n; ++i) {
+      const bool kept = i < n && !std::isnan(way_vertices[i - 1].x) &&
+                        !std::isnan(way_vertices[i].x) && near(way_vertices[i - 1], way_vertices[i]);
+      if (!kept) {
+        if (i - 1 > chain_begin) {
+          chains.emplace_back(chain_begin, i - 1);
+          needed += ObstacleEdges::slots_for_chain(i - 1 - chain_begin);
+          out.report.edges += i - 1 - chain_begin;
+        }
+        chain_begin = i;
       }
     }
+    const bool in_place = write + needed <= end;
+    if (!in_place) overflow.resize(overflow.size() + needed);
+    PlanePoint* to = in_place ? write : overflow.data() + overflow.size() - needed;
+    for (const auto& [b, l] : chains) {
+      to = ObstacleEdges::write_chain(to, ways_[w].bottom_m, ways_[w].top_m,
+                                      way_vertices.data() + b, way_vertices.data() + l);
+    }
+    if (in_place) write = to;
   }
-  out.report.edges = out.edges.size();
-  // What was read is no longer needed: the edges are what the sight stage uses.
+  slots_.resize(static_cast<std::size_t>(write - base));
+  slots_.insert(slots_.end(), overflow.begin(), overflow.end());
+  // What was read is no longer needed: the edges are what the sight stage uses. (Not shrunk:
+  // that would copy them; what the dropped far ways leave is at most what was read.)
   std::vector<Way>().swap(ways_);
-  std::vector<std::uint32_t>().swap(ref_nodes_);
-  std::vector<std::int64_t>().swap(node_ids_);
-  std::vector<PlanePoint>().swap(nodes_);
+  out.edges = ObstacleEdges::adopt(std::move(slots_));
+  slots_ = {};
   return out;
 }
 
