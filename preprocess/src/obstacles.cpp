@@ -2,14 +2,16 @@
 // an opaque band of heights. Read in the road network's two passes (ways, then only the nodes
 // those ways use), so memory follows the obstacles and not the file.
 #include <algorithm>
+#include <bit>
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <functional>
+#include <limits>
 #include <osmium/osm/node.hpp>
 #include <osmium/osm/relation.hpp>
 #include <osmium/osm/way.hpp>
 #include <stdexcept>
-#include <limits>
 #include <thread>
 #include <utility>
 
@@ -77,11 +79,15 @@ void ObstacleReader::way(const osmium::Way& way) {
   if (std::isnan(top_m)) top_m = default_m, ++report_.default_height;
   const auto bottom = static_cast<float>(bottom_m), top = static_cast<float>(top_m);
   if (way.nodes().size() < 2 || !(top > bottom)) return;
-  // Slot numbers (a header per way, then one per reference) must fit the edge ids.
-  if (refs_.size() + ways_.size() + 1 + way.nodes().size() > std::numeric_limits<std::uint32_t>::max())
+  // Slot numbers (a header per way, one per reference, and the cuts of long ways) must fit the
+  // edge ids.
+  const std::size_t k = way.nodes().size();
+  if (cut_slots_ + refs_.size() + ways_.size() + 1 + k + 2 * k >
+      std::numeric_limits<std::uint32_t>::max()) {
     throw std::length_error("sight: more than 2^32 - 1 obstacle node references");
-  const bool closed = way.nodes().front().ref() == way.nodes().back().ref();
-  ways_.push_back({static_cast<std::uint32_t>(refs_.size() + ways_.size()), bottom, top, closed});
+  }
+  cut_slots_ += ObstacleEdges::slots_for_chain(k - 1) - (k + 1);
+  ways_.push_back({static_cast<std::uint32_t>(refs_.size() + ways_.size()), bottom, top});
   for (const osmium::NodeRef& ref : way.nodes()) refs_.push_back(ref.ref());
 }
 
@@ -93,37 +99,62 @@ void ObstacleReader::relation(const osmium::Relation& relation) {
 }
 
 void ObstacleReader::ways_done() {
+  // The ways' slots go after room for the cuts of their long chains, so that take_edges, writing
+  // runs from slot 0, never overtakes what it has not read yet.
+  for (Way& way : ways_) way.first_slot += static_cast<std::uint32_t>(cut_slots_);
   node_slots_.resize(refs_.size());
   std::size_t r = 0;
   for (std::size_t w = 0; w < ways_.size(); ++w) {
-    const std::size_t end = w + 1 < ways_.size() ? ways_[w + 1].first_slot : refs_.size() + ways_.size();
+    const std::size_t end =
+        w + 1 < ways_.size() ? ways_[w + 1].first_slot : cut_slots_ + refs_.size() + ways_.size();
     for (std::size_t slot = ways_[w].first_slot + 1; slot < end; ++slot, ++r) {
       const auto id = static_cast<std::uint64_t>(refs_[r]);
       node_slots_[r] = {static_cast<std::uint32_t>(id), static_cast<std::uint32_t>(id >> 32),
                         static_cast<std::uint32_t>(slot)};
     }
   }
-  const std::size_t slots = refs_.size() + ways_.size();
+  const std::size_t slots = cut_slots_ + refs_.size() + ways_.size();
   std::vector<std::int64_t>().swap(refs_);
   // By id alone: the slots of one node all get the same location, in any order.
   std::sort(node_slots_.begin(), node_slots_.end(),
             [](const NodeSlot& x, const NodeSlot& y) { return x.id() < y.id(); });
   slots_.assign(slots, PlanePoint{NAN, NAN});
+  if (node_slots_.empty()) return;
+  // Buckets of ids: at most 2^20, so the shift makes the id range fit.
+  min_id_ = node_slots_.front().id();
+  const auto range = static_cast<std::uint64_t>(node_slots_.back().id() - min_id_);
+  id_shift_ = std::max(0, static_cast<int>(std::bit_width(range)) - 20);
+  bucket_begins_.assign(static_cast<std::size_t>(range >> id_shift_) + 2, 0);
+  std::size_t at = 0;
+  for (std::size_t b = 0; b < bucket_begins_.size(); ++b) {
+    while (at < node_slots_.size() &&
+           (static_cast<std::uint64_t>(node_slots_[at].id() - min_id_) >> id_shift_) < b) {
+      ++at;
+    }
+    bucket_begins_[b] = static_cast<std::uint32_t>(at);
+  }
 }
 
 void ObstacleReader::nodes_done() {
   // The ids only served the lookup in node(): the segment table and the edges come next.
   std::vector<NodeSlot>().swap(node_slots_);
+  std::vector<std::uint32_t>().swap(bucket_begins_);
 }
 
 void ObstacleReader::node(const osmium::Node& node) {
-  auto it = std::lower_bound(node_slots_.begin(), node_slots_.end(), node.id(),
+  if (node_slots_.empty() || node.id() < min_id_ || node.id() > node_slots_.back().id()) return;
+  const std::size_t b =
+      static_cast<std::size_t>(static_cast<std::uint64_t>(node.id() - min_id_) >> id_shift_);
+  const auto end = node_slots_.begin() + bucket_begins_[b + 1];
+  auto it = std::lower_bound(node_slots_.begin() + bucket_begins_[b], end, node.id(),
                              [](const NodeSlot& x, std::int64_t id) { return x.id() < id; });
-  if (it == node_slots_.end() || it->id() != node.id()) return;
+  if (it == end || it->id() != node.id()) return;
   const osmium::Location l = node.location();
   if (!l.valid()) return;
-  const PlanePoint lon_lat{l.lon(), l.lat()};
-  for (; it != node_slots_.end() && it->id() == node.id(); ++it) slots_[it->slot] = lon_lat;
+  // The first reference holds the location, the others point to it (projected once).
+  const std::uint32_t first = it->slot;
+  slots_[first] = {l.lon(), l.lat()};
+  for (++it; it != end && it->id() == node.id(); ++it) slots_[it->slot] = {NAN, double(first)};
 }
 
 Obstacles ObstacleReader::take_edges(const geo::UtmZone& zone, const PlanePoint& min,
@@ -135,7 +166,7 @@ Obstacles ObstacleReader::take_edges(const geo::UtmZone& zone, const PlanePoint&
   constexpr double kLongEdgeM = 1000.0;
   const double node_reach_m = reach_m + kLongEdgeM;
   // (lon, lat) -> UTM in place, NaN when missing or far; on every core (the projection is most
-  // of this stage's time). A closed way's last vertex is its first node again: copied.
+  // of this stage's time). A node's other references (NaN, its first slot) are copied after.
   const auto project_one = [&](PlanePoint& q) {
     if (std::isnan(q.x)) return;
     bool kept = false;
@@ -150,33 +181,37 @@ Obstacles ObstacleReader::take_edges(const geo::UtmZone& zone, const PlanePoint&
     q = kept ? PlanePoint{u.easting_m, u.northing_m} : PlanePoint{NAN, NAN};
   };
   const auto project = [&](std::size_t begin, std::size_t end) {
-    for (std::size_t w = begin; w < end; ++w) {
-      const std::size_t first = ways_[w].first_slot + 1, last = end_slot(w) - 1;
-      for (std::size_t i = first; i < last; ++i) project_one(slots_[i]);
-      if (ways_[w].closed) {
-        slots_[last] = slots_[first];
-      } else {
-        project_one(slots_[last]);
-      }
+    for (std::size_t i = begin; i < end; ++i) project_one(slots_[i]);
+  };
+  const auto copy_references = [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      const PlanePoint q = slots_[i];
+      if (std::isnan(q.x) && !std::isnan(q.y)) slots_[i] = slots_[static_cast<std::size_t>(q.y)];
     }
   };
+  // Headers are (NaN, NaN) until the compaction writes them: both passes leave them.
   const std::size_t threads = std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1, 16);
-  std::vector<std::thread> pool;
-  const std::size_t chunk = (ways_.size() + threads - 1) / threads;
-  for (std::size_t t = 1; t < threads; ++t) {
-    pool.emplace_back(project, std::min(ways_.size(), t * chunk),
-                      std::min(ways_.size(), (t + 1) * chunk));
+  const std::size_t chunk = (slots_.size() + threads - 1) / threads;
+  for (const auto& pass : {std::function<void(std::size_t, std::size_t)>(project),
+                           std::function<void(std::size_t, std::size_t)>(copy_references)}) {
+    std::vector<std::thread> pool;
+    for (std::size_t t = 1; t < threads; ++t) {
+      pool.emplace_back(pass, std::min(slots_.size(), t * chunk),
+                        std::min(slots_.size(), (t + 1) * chunk));
+    }
+    pass(0, std::min(slots_.size(), chunk));
+    for (std::thread& t : pool) t.join();
   }
-  project(0, std::min(ways_.size(), chunk));
-  for (std::thread& t : pool) t.join();
   // Only edges a sight line can meet: within reach of the roads' box.
   const auto near = [&](const PlanePoint& a, const PlanePoint& b) {
     return std::max(a.x, b.x) >= min.x - reach_m && std::min(a.x, b.x) <= max.x + reach_m &&
            std::max(a.y, b.y) >= min.y - reach_m && std::min(a.y, b.y) <= max.y + reach_m;
   };
-  // Each way's maximal chains of kept edges become runs, written in place over the slots read
-  // (a way's runs take no more slots than it had, unless a far edge between two kept ones cuts
-  // a chain: such a way's runs go to `overflow`, appended at the end).
+  // Each way's maximal chains of kept edges become runs, written in place from slot 0 over the
+  // slots read: a way's runs take no more slots than it had plus its cuts' room (before the
+  // first way), unless a far edge between two kept ones splits a chain: then, if they would
+  // overtake the next way, they go to `overflow`, appended at the end (which may then need a
+  // larger array: only when nothing else was dropped).
   std::vector<PlanePoint> way_vertices, overflow;
   std::vector<std::pair<std::size_t, std::size_t>> chains;  // [first, last] vertex, all kept
   PlanePoint* const base = slots_.data();
@@ -190,7 +225,8 @@ Obstacles ObstacleReader::take_edges(const geo::UtmZone& zone, const PlanePoint&
     std::size_t needed = 0;
     for (std::size_t i = 1, chain_begin = 0; i <= n; ++i) {
       const bool kept = i < n && !std::isnan(way_vertices[i - 1].x) &&
-                        !std::isnan(way_vertices[i].x) && near(way_vertices[i - 1], way_vertices[i]);
+                        !std::isnan(way_vertices[i].x) &&
+                        near(way_vertices[i - 1], way_vertices[i]);
       if (!kept) {
         if (i - 1 > chain_begin) {
           chains.emplace_back(chain_begin, i - 1);

@@ -235,9 +235,8 @@ class Scene {
   /// The line passes through the opaque band of an obstacle edge it crosses in plan.
   bool obstacle_blocks(const Point3& eye, const Point3& target) const {
     const PlanLine line({eye.x, eye.y}, {target.x, target.y});
-    return grid_.any_along({eye.x, eye.y}, {target.x, target.y}, [&](std::uint32_t i) {
-      return edge_blocks(i, line, eye, target);
-    });
+    return grid_.any_along({eye.x, eye.y}, {target.x, target.y},
+                           [&](std::uint32_t i) { return edge_blocks(i, line, eye, target); });
   }
 
   /// Edge i's band is looked up only once the line crosses it in plan (rarely).

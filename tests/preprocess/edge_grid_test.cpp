@@ -258,8 +258,8 @@ TEST(ObstacleEdges, LongChainsAreCutIntoRunsOfAtMost64Edges) {
   EXPECT_EQ(added.top_m(134), 1.5f);  // the last edge, 129 -> 130, finds its header at 132
   EXPECT_EQ(added.a(134).x, 129.0);
   std::vector<PlanePoint> written(136);
-  const PlanePoint* end = rp::ObstacleEdges::write_chain(
-      written.data(), 0.0f, 1.5f, vertices.data(), vertices.data() + 130);
+  const PlanePoint* end = rp::ObstacleEdges::write_chain(written.data(), 0.0f, 1.5f,
+                                                         vertices.data(), vertices.data() + 130);
   EXPECT_EQ(end, written.data() + 136);
   const rp::ObstacleEdges adopted = rp::ObstacleEdges::adopt(written);
   for (std::size_t i = 0; i < 136; ++i) {

@@ -46,7 +46,9 @@ class ObstacleEdges {
   ObstacleEdges() = default;
   /// Each edge, in order, continuing the run before it when it starts where that one ends with
   /// the same band (tests, small inputs).
-  ObstacleEdges(std::initializer_list<ObstacleEdge> edges) { add_edges(edges.begin(), edges.end()); }
+  ObstacleEdges(std::initializer_list<ObstacleEdge> edges) {
+    add_edges(edges.begin(), edges.end());
+  }
   ObstacleEdges(const std::vector<ObstacleEdge>& edges) { add_edges(edges.begin(), edges.end()); }
 
   /// Starts a new run with the band [bottom_m, top_m]; its vertices follow with add_vertex().
@@ -75,7 +77,8 @@ class ObstacleEdges {
     for (std::size_t i = 0; i < out.slots_.size(); ++i) {
       const bool is_header = std::isnan(out.slots_[i].x);
       if (i == 0 && !is_header) throw std::logic_error("obstacle edges: no header first");
-      if (is_header) out.run_header_ = i, edges = 0;
+      if (is_header)
+        out.run_header_ = i, edges = 0;
       else if (i > out.run_header_ + 1 && ++edges > kMaxRunEdges)
         throw std::logic_error("obstacle edges: a run longer than kMaxRunEdges");
     }

@@ -62,11 +62,13 @@ double parse_height_m(std::string_view text) noexcept;
 
 /// Reads building footprints (closed ways with building=*, except roof and no) and
 /// barrier=wall/fence ways in the road network's two passes: give it to read_road_network().
-/// The way pass keeps per obstacle way 16 bytes and per node reference 8 (its id); then every
+/// The way pass keeps per obstacle way 12 bytes and per node reference 8 (its id); then every
 /// reference gets the 16-byte slot it will have among the edges (ObstacleEdges' layout, a
-/// header slot before each way), filled with the node's location in the node pass (looked up
-/// by id in a sorted table of 12 bytes a reference, freed after it); take_edges() projects and
-/// compacts the slots in place. So the edges never exist twice, nor as 40-byte edges.
+/// header slot before each way), filled in the node pass with the node's location (its first
+/// reference) or the slot of its first reference (the others: a node shared by two buildings,
+/// a ring's last node), looked up by id in a sorted table of 12 bytes a reference freed after
+/// the pass; take_edges() projects each node once and compacts the slots in place. So the
+/// edges never exist twice, nor as 40-byte edges.
 class ObstacleReader final : public ExtraOsmReader {
  public:
   explicit ObstacleReader(const SightParameters& parameters) : p_(parameters) {}
@@ -87,7 +89,6 @@ class ObstacleReader final : public ExtraOsmReader {
   struct Way {
     std::uint32_t first_slot = 0;  ///< its header slot; its vertices follow
     float bottom_m = 0.0f, top_m = 0.0f;
-    bool closed = false;  ///< last node = first node (projected once)
   };
   /// A node reference's slot, by node id (12 bytes, not 16).
   struct NodeSlot {
@@ -103,9 +104,17 @@ class ObstacleReader final : public ExtraOsmReader {
   const SightParameters& p_;
   ObstacleReport report_;
   std::vector<Way> ways_;
-  std::vector<std::int64_t> refs_;       ///< node ids of ways_ (first pass only)
-  std::vector<NodeSlot> node_slots_;     ///< sorted by id; node pass only
-  std::vector<PlanePoint> slots_;        ///< (lon, lat) of every reference, NaN when missing
+  std::size_t cut_slots_ = 0;         ///< slots the cuts of long chains add (before the ways')
+  std::vector<std::int64_t> refs_;    ///< node ids of ways_ (first pass only)
+  std::vector<NodeSlot> node_slots_;  ///< sorted by id; node pass only
+  /// node_slots_ of the ids in [min_id_ + (b << id_shift_), min_id_ + ((b + 1) << id_shift_))
+  /// begin at bucket_begins_[b]: a node's look-up searches one bucket (2^20 of them, 4 MB).
+  std::vector<std::uint32_t> bucket_begins_;
+  std::int64_t min_id_ = 0;
+  int id_shift_ = 0;
+  /// cut_slots_ free slots, then per way a header slot and per reference (lon, lat); or (NaN,
+  /// the slot of the node's first reference); or (NaN, NaN) when the node is not in the file.
+  std::vector<PlanePoint> slots_;
 };
 
 struct SightReport {
