@@ -5,6 +5,8 @@
 #include <bit>
 #include <charconv>
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <functional>
 #include <limits>
@@ -34,6 +36,10 @@ double parse_height_m(std::string_view text) noexcept {
 
 namespace {
 
+// Packed slots that hold no location (a valid location's x is within +-180e7).
+constexpr std::int32_t kMissing = std::numeric_limits<std::int32_t>::max();
+constexpr std::int32_t kReference = std::numeric_limits<std::int32_t>::min();
+
 /// A height from `height_key`, else `levels_key` times the level height; NaN when neither.
 double tagged_height_m(const osmium::TagList& tags, const char* height_key, const char* levels_key,
                        double level_height_m) {
@@ -51,6 +57,16 @@ double tagged_height_m(const osmium::TagList& tags, const char* height_key, cons
 }
 
 }  // namespace
+
+void ObstacleReader::put_packed(std::size_t i, const Packed& p) {
+  std::memcpy(reinterpret_cast<std::byte*>(slots_.data()) + sizeof(Packed) * i, &p, sizeof p);
+}
+
+ObstacleReader::Packed ObstacleReader::packed(std::size_t i) const {
+  Packed p;
+  std::memcpy(&p, reinterpret_cast<const std::byte*>(slots_.data()) + sizeof(Packed) * i, sizeof p);
+  return p;
+}
 
 void ObstacleReader::way(const osmium::Way& way) {
   const osmium::TagList& tags = way.tags();
@@ -118,7 +134,8 @@ void ObstacleReader::ways_done() {
   // By id alone: the slots of one node all get the same location, in any order.
   std::sort(node_slots_.begin(), node_slots_.end(),
             [](const NodeSlot& x, const NodeSlot& y) { return x.id() < y.id(); });
-  slots_.assign(slots, PlanePoint{NAN, NAN});
+  slots_.resize(slots);  // untouched: only the packed first half is written
+  for (std::size_t i = 0; i < slots; ++i) put_packed(i, {kMissing, kMissing});
   if (node_slots_.empty()) return;
   // Buckets of ids: at most 2^20, so the shift makes the id range fit.
   min_id_ = node_slots_.front().id();
@@ -153,8 +170,10 @@ void ObstacleReader::node(const osmium::Node& node) {
   if (!l.valid()) return;
   // The first reference holds the location, the others point to it (projected once).
   const std::uint32_t first = it->slot;
-  slots_[first] = {l.lon(), l.lat()};
-  for (++it; it != end && it->id() == node.id(); ++it) slots_[it->slot] = {NAN, double(first)};
+  put_packed(first, {l.x(), l.y()});
+  for (++it; it != end && it->id() == node.id(); ++it) {
+    put_packed(it->slot, {kReference, std::bit_cast<std::int32_t>(first)});
+  }
 }
 
 Obstacles ObstacleReader::take_edges(const geo::UtmZone& zone, const PlanePoint& min,
@@ -165,9 +184,23 @@ Obstacles ObstacleReader::take_edges(const geo::UtmZone& zone, const PlanePoint&
   // keeps both ends of long edges (a wall, a large hall) that reach the sight lines' area.
   constexpr double kLongEdgeM = 1000.0;
   const double node_reach_m = reach_m + kLongEdgeM;
+  // Unpacked backwards: slot i's 16 bytes (from byte 16 i) are at or after its own 8 packed
+  // bytes (8 i) and after those of every slot not yet unpacked (< i). (lon, lat) as the node
+  // pass read them: the same doubles as Location::lon() and lat() there.
+  for (std::size_t i = slots_.size(); i-- > 0;) {
+    const Packed p = packed(i);
+    RawPoint q{NAN, NAN};
+    if (p.x == kReference) {
+      q = {NAN, double(std::bit_cast<std::uint32_t>(p.y))};
+    } else if (p.x != kMissing) {
+      const osmium::Location l(p.x, p.y);
+      q = {l.lon(), l.lat()};
+    }
+    slots_[i] = q;
+  }
   // (lon, lat) -> UTM in place, NaN when missing or far; on every core (the projection is most
   // of this stage's time). A node's other references (NaN, its first slot) are copied after.
-  const auto project_one = [&](PlanePoint& q) {
+  const auto project_one = [&](RawPoint& q) {
     if (std::isnan(q.x)) return;
     bool kept = false;
     geo::UtmPoint u;
@@ -178,14 +211,14 @@ Obstacles ObstacleReader::take_edges(const geo::UtmZone& zone, const PlanePoint&
     } catch (const std::invalid_argument&) {
       // Too far from the roads' UTM zone to project: far from every road as well.
     }
-    q = kept ? PlanePoint{u.easting_m, u.northing_m} : PlanePoint{NAN, NAN};
+    q = kept ? RawPoint{u.easting_m, u.northing_m} : RawPoint{NAN, NAN};
   };
   const auto project = [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) project_one(slots_[i]);
   };
   const auto copy_references = [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
-      const PlanePoint q = slots_[i];
+      const RawPoint q = slots_[i];
       if (std::isnan(q.x) && !std::isnan(q.y)) slots_[i] = slots_[static_cast<std::size_t>(q.y)];
     }
   };
@@ -203,7 +236,7 @@ Obstacles ObstacleReader::take_edges(const geo::UtmZone& zone, const PlanePoint&
     for (std::thread& t : pool) t.join();
   }
   // Only edges a sight line can meet: within reach of the roads' box.
-  const auto near = [&](const PlanePoint& a, const PlanePoint& b) {
+  const auto near = [&](const RawPoint& a, const RawPoint& b) {
     return std::max(a.x, b.x) >= min.x - reach_m && std::min(a.x, b.x) <= max.x + reach_m &&
            std::max(a.y, b.y) >= min.y - reach_m && std::min(a.y, b.y) <= max.y + reach_m;
   };
@@ -212,13 +245,14 @@ Obstacles ObstacleReader::take_edges(const geo::UtmZone& zone, const PlanePoint&
   // first way), unless a far edge between two kept ones splits a chain: then, if they would
   // overtake the next way, they go to `overflow`, appended at the end (which may then need a
   // larger array: only when nothing else was dropped).
-  std::vector<PlanePoint> way_vertices, overflow;
+  std::vector<RawPoint> way_vertices;
+  ObstacleEdges::Slots overflow;
   std::vector<std::pair<std::size_t, std::size_t>> chains;  // [first, last] vertex, all kept
-  PlanePoint* const base = slots_.data();
-  PlanePoint* write = base;
+  RawPoint* const base = slots_.data();
+  RawPoint* write = base;
   for (std::size_t w = 0; w < ways_.size(); ++w) {
-    const PlanePoint* first = base + ways_[w].first_slot + 1;
-    const PlanePoint* end = base + end_slot(w);
+    const RawPoint* first = base + ways_[w].first_slot + 1;
+    const RawPoint* end = base + end_slot(w);
     way_vertices.assign(first, end);
     const std::size_t n = way_vertices.size();
     chains.clear();
@@ -238,7 +272,7 @@ Obstacles ObstacleReader::take_edges(const geo::UtmZone& zone, const PlanePoint&
     }
     const bool in_place = write + needed <= end;
     if (!in_place) overflow.resize(overflow.size() + needed);
-    PlanePoint* to = in_place ? write : overflow.data() + overflow.size() - needed;
+    RawPoint* to = in_place ? write : overflow.data() + overflow.size() - needed;
     for (const auto& [b, l] : chains) {
       to = ObstacleEdges::write_chain(to, ways_[w].bottom_m, ways_[w].top_m,
                                       way_vertices.data() + b, way_vertices.data() + l);

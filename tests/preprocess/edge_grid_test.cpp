@@ -242,7 +242,11 @@ TEST(ObstacleEdges, LongChainsAreCutIntoRunsOfAtMost64Edges) {
   // each after a header and starting at the last vertex of the one before: 130 + 2 + 2 * 2 =
   // 136 slots. Written vertex by vertex and as a chain, the same slots.
   std::vector<PlanePoint> vertices;
-  for (int x = 0; x <= 130; ++x) vertices.push_back({double(x), 5.0});
+  std::vector<rp::RawPoint> raw;
+  for (int x = 0; x <= 130; ++x) {
+    vertices.push_back({double(x), 5.0});
+    raw.push_back({double(x), 5.0});
+  }
   rp::ObstacleEdges added;
   added.begin_run(0.0f, 1.5f);
   for (const PlanePoint& p : vertices) added.add_vertex(p);
@@ -257,9 +261,9 @@ TEST(ObstacleEdges, LongChainsAreCutIntoRunsOfAtMost64Edges) {
   EXPECT_EQ(added.b(67).x, 65.0);
   EXPECT_EQ(added.top_m(134), 1.5f);  // the last edge, 129 -> 130, finds its header at 132
   EXPECT_EQ(added.a(134).x, 129.0);
-  std::vector<PlanePoint> written(136);
-  const PlanePoint* end = rp::ObstacleEdges::write_chain(written.data(), 0.0f, 1.5f,
-                                                         vertices.data(), vertices.data() + 130);
+  rp::ObstacleEdges::Slots written(136);
+  const rp::RawPoint* end =
+      rp::ObstacleEdges::write_chain(written.data(), 0.0f, 1.5f, raw.data(), raw.data() + 130);
   EXPECT_EQ(end, written.data() + 136);
   const rp::ObstacleEdges adopted = rp::ObstacleEdges::adopt(written);
   for (std::size_t i = 0; i < 136; ++i) {
@@ -271,7 +275,7 @@ TEST(ObstacleEdges, LongChainsAreCutIntoRunsOfAtMost64Edges) {
     EXPECT_EQ(adopted.top_m(id), 1.5f);
   }
   // A run of 65 edges, or vertices before any header, are refused.
-  std::vector<PlanePoint> too_long(67, PlanePoint{1.0, 1.0});
+  rp::ObstacleEdges::Slots too_long(67, rp::RawPoint{1.0, 1.0});
   too_long[0] = rp::ObstacleEdges::header(0.0f, 1.0f);
   EXPECT_THROW(rp::ObstacleEdges::adopt(too_long), std::logic_error);
   too_long.pop_back();

@@ -92,16 +92,17 @@ class EdgeGrid {
   /// them (every cell's edges in increasing index order). The edges' indices are their
   /// positions in the vector.
   explicit EdgeGrid(const std::vector<ObstacleEdge>& edges) {
-    build(edges.size(), [&](std::size_t i) {
-      return std::pair<const PlanePoint*, const PlanePoint*>{&edges[i].a, &edges[i].b};
+    build(edges.size(), [&](std::size_t i, PlanePoint& a, PlanePoint& b) {
+      a = edges[i].a, b = edges[i].b;
+      return true;
     });
   }
   /// The same with the edges' ids in the store (its slots that are no edge are skipped).
   explicit EdgeGrid(const ObstacleEdges& edges) {
-    build(edges.slots(), [&](std::size_t i) {
-      if (!edges.is_edge(i)) return std::pair<const PlanePoint*, const PlanePoint*>{};
-      const auto id = static_cast<std::uint32_t>(i);
-      return std::pair<const PlanePoint*, const PlanePoint*>{&edges.a(id), &edges.b(id)};
+    build(edges.slots(), [&](std::size_t i, PlanePoint& a, PlanePoint& b) {
+      if (!edges.is_edge(i)) return false;
+      a = edges.a(static_cast<std::uint32_t>(i)), b = edges.b(static_cast<std::uint32_t>(i));
+      return true;
     });
   }
 
@@ -139,17 +140,17 @@ class EdgeGrid {
     bool used = false;
   };
 
-  /// ends(i): pointers to the two ends of edge id i, or nullptrs when id i is no edge.
+  /// ends(i, a, b): false when id i is no edge, else true with its two ends in a and b.
   template <typename Ends>
   void build(std::size_t ids, Ends&& ends) {
     if (ids > std::numeric_limits<std::uint32_t>::max())
       throw std::length_error("sight: more than 2^32 - 1 obstacle edge ids");
     table_.assign(64, Slot{});
     mask_ = table_.size() - 1;
+    PlanePoint a, b;
     for (std::size_t i = 0; i < ids; ++i) {
-      const auto [a, b] = ends(i);
-      if (!a) continue;
-      for_cells_along(*a, *b, kCellM, [&](std::int64_t c, std::int64_t r) {
+      if (!ends(i, a, b)) continue;
+      for_cells_along(a, b, kCellM, [&](std::int64_t c, std::int64_t r) {
         ++begins_[cell_index(c, r)];  // the count, for now
         return false;
       });
@@ -157,13 +158,15 @@ class EdgeGrid {
     // Counts -> ends (inclusive prefix sums); the second walk, run backwards over the edges,
     // files each edge at --end, which leaves every cell's begin in place.
     begins_.push_back(0);
+    // The tile table's growth slack goes before the entries are allocated (its copy then adds
+    // nothing to the peak).
+    begins_.shrink_to_fit();
     std::uint32_t sum = 0;
     for (std::uint32_t& b : begins_) b = (sum += b);
     edges_.resize(sum);
     for (std::size_t i = ids; i-- > 0;) {
-      const auto [a, b] = ends(i);
-      if (!a) continue;
-      for_cells_along(*a, *b, kCellM, [&](std::int64_t c, std::int64_t r) {
+      if (!ends(i, a, b)) continue;
+      for_cells_along(a, b, kCellM, [&](std::int64_t c, std::int64_t r) {
         edges_[--begins_[cell_index(c, r)]] = static_cast<std::uint32_t>(i);
         return false;
       });

@@ -10,7 +10,10 @@
 #include <cstdint>
 #include <initializer_list>
 #include <limits>
+#include <memory>
+#include <new>
 #include <stdexcept>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -26,6 +29,32 @@ using schema::PlanePoint;
 struct ObstacleEdge {
   PlanePoint a, b;
   float bottom_m = 0.0f, top_m = 0.0f;
+};
+
+/// A point without default member initialisers, so that an array of them can be allocated
+/// without touching its pages (they cost no memory until written).
+struct RawPoint {
+  double x, y;
+};
+
+/// Allocates like std::allocator but leaves trivial elements uninitialised on resize().
+template <typename T>
+struct UninitialisedAllocator : std::allocator<T> {
+  template <typename U>
+  struct rebind {
+    using other = UninitialisedAllocator<U>;
+  };
+  UninitialisedAllocator() = default;
+  template <typename U>
+  UninitialisedAllocator(const UninitialisedAllocator<U>&) noexcept {}
+  template <typename U>
+  void construct(U* p) noexcept(std::is_nothrow_default_constructible_v<U>) {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <typename U, typename... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
 };
 
 /// Obstacle edges stored as runs (polylines) of shared vertices: a building ring of k edges
@@ -59,18 +88,20 @@ class ObstacleEdges {
   /// The run's next vertex (not NaN): the run's previous vertex to it is an edge.
   void add_vertex(const PlanePoint& p) {
     if (slots_.size() - run_header_ > kMaxRunEdges + 1) {  // kMaxRunEdges edges already
-      const PlanePoint last = slots_.back();
-      const PlanePoint band = slots_[run_header_];
+      const RawPoint last = slots_.back();
+      const RawPoint band = slots_[run_header_];
       slots_.push_back(band);
       run_header_ = slots_.size() - 1;
       slots_.push_back(last);
     }
-    slots_.push_back(p);
+    slots_.push_back({p.x, p.y});
   }
+
+  using Slots = std::vector<RawPoint, UninitialisedAllocator<RawPoint>>;
 
   /// Takes slots laid out as above (made by a reader that writes its runs in place, with
   /// header() and at most kMaxRunEdges edges a run); throws std::logic_error when they are not.
-  static ObstacleEdges adopt(std::vector<PlanePoint> slots) {
+  static ObstacleEdges adopt(Slots slots) {
     ObstacleEdges out;
     out.slots_ = std::move(slots);
     std::size_t edges = 0;
@@ -85,7 +116,7 @@ class ObstacleEdges {
     return out;
   }
   /// A run's header slot.
-  static PlanePoint header(float bottom_m, float top_m) {
+  static RawPoint header(float bottom_m, float top_m) {
     const std::uint64_t bits = std::uint64_t{std::bit_cast<std::uint32_t>(bottom_m)} |
                                (std::uint64_t{std::bit_cast<std::uint32_t>(top_m)} << 32);
     return {std::numeric_limits<double>::quiet_NaN(), std::bit_cast<double>(bits)};
@@ -96,10 +127,10 @@ class ObstacleEdges {
   }
   /// Writes a chain of vertices [first, last] (> 1 of them, none NaN) with the band
   /// [bottom_m, top_m] as runs at `out` (not overlapping them); returns the end.
-  static PlanePoint* write_chain(PlanePoint* out, float bottom_m, float top_m,
-                                 const PlanePoint* first, const PlanePoint* last) {
-    const PlanePoint band = header(bottom_m, top_m);
-    for (const PlanePoint* v = first; v < last;) {
+  static RawPoint* write_chain(RawPoint* out, float bottom_m, float top_m, const RawPoint* first,
+                               const RawPoint* last) {
+    const RawPoint band = header(bottom_m, top_m);
+    for (const RawPoint* v = first; v < last;) {
       const std::size_t n = std::min<std::size_t>(kMaxRunEdges, static_cast<std::size_t>(last - v));
       *out++ = band;
       for (std::size_t k = 0; k <= n; ++k) *out++ = v[k];  // the run's n + 1 vertices
@@ -120,8 +151,11 @@ class ObstacleEdges {
     return n;
   }
 
-  const PlanePoint& a(std::uint32_t i) const { return slots_[i]; }
-  const PlanePoint& b(std::uint32_t i) const { return slots_[std::size_t{i} + 1]; }
+  PlanePoint a(std::uint32_t i) const { return {slots_[i].x, slots_[i].y}; }
+  PlanePoint b(std::uint32_t i) const {
+    const RawPoint& q = slots_[std::size_t{i} + 1];
+    return {q.x, q.y};
+  }
   float bottom_m(std::uint32_t i) const { return band_of(run_header_of(i)).first; }
   float top_m(std::uint32_t i) const { return band_of(run_header_of(i)).second; }
   ObstacleEdge operator[](std::uint32_t i) const {
@@ -157,7 +191,7 @@ class ObstacleEdges {
     }
   }
 
-  std::vector<PlanePoint> slots_;
+  Slots slots_;
   std::size_t run_header_ = 0;
 };
 

@@ -114,7 +114,14 @@ class ObstacleReader final : public ExtraOsmReader {
   int id_shift_ = 0;
   /// cut_slots_ free slots, then per way a header slot and per reference (lon, lat); or (NaN,
   /// the slot of the node's first reference); or (NaN, NaN) when the node is not in the file.
-  std::vector<PlanePoint> slots_;
+  /// Until take_edges() each slot is 8 bytes (Packed, in the first half of the memory; the
+  /// second half is allocated but never touched, so not resident), then unpacked in place.
+  ObstacleEdges::Slots slots_;
+  struct Packed {
+    std::int32_t x, y;  ///< a Location's; or (kReference, the first slot); or kMissing twice
+  };
+  void put_packed(std::size_t i, const Packed& p);
+  Packed packed(std::size_t i) const;
 };
 
 struct SightReport {
