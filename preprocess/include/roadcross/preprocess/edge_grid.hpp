@@ -147,10 +147,10 @@ class EdgeGrid {
       throw std::length_error("sight: more than 2^32 - 1 obstacle edge ids");
     table_.assign(64, Slot{});
     mask_ = table_.size() - 1;
-    PlanePoint a, b;
+    PlanePoint from, to;
     for (std::size_t i = 0; i < ids; ++i) {
-      if (!ends(i, a, b)) continue;
-      for_cells_along(a, b, kCellM, [&](std::int64_t c, std::int64_t r) {
+      if (!ends(i, from, to)) continue;
+      for_cells_along(from, to, kCellM, [&](std::int64_t c, std::int64_t r) {
         ++begins_[cell_index(c, r)];  // the count, for now
         return false;
       });
@@ -165,8 +165,8 @@ class EdgeGrid {
     for (std::uint32_t& b : begins_) b = (sum += b);
     edges_.resize(sum);
     for (std::size_t i = ids; i-- > 0;) {
-      if (!ends(i, a, b)) continue;
-      for_cells_along(a, b, kCellM, [&](std::int64_t c, std::int64_t r) {
+      if (!ends(i, from, to)) continue;
+      for_cells_along(from, to, kCellM, [&](std::int64_t c, std::int64_t r) {
         edges_[--begins_[cell_index(c, r)]] = static_cast<std::uint32_t>(i);
         return false;
       });
