@@ -62,13 +62,14 @@ double parse_height_m(std::string_view text) noexcept;
 
 /// Reads building footprints (closed ways with building=*, except roof and no) and
 /// barrier=wall/fence ways in the road network's two passes: give it to read_road_network().
-/// The way pass keeps per obstacle way 12 bytes and per node reference 8 (its id); then every
-/// reference gets the 16-byte slot it will have among the edges (ObstacleEdges' layout, a
-/// header slot before each way), filled in the node pass with the node's location (its first
-/// reference) or the slot of its first reference (the others: a node shared by two buildings,
-/// a ring's last node), looked up by id in a sorted table of 12 bytes a reference freed after
-/// the pass; take_edges() projects each node once and compacts the slots in place. So the
-/// edges never exist twice, nor as 40-byte edges.
+/// The way pass keeps per obstacle way 12 bytes and per node reference 8 (its id). Then every
+/// reference gets the slot it will have among the edges (ObstacleEdges' layout: a header slot
+/// before each way), filled in the node pass with the node's location (its first reference) or
+/// the slot of its first reference (the others: a node shared by two buildings, a ring's last
+/// node); the look-up is by id in a sorted table of 12 bytes a reference, freed after the pass.
+/// Until take_edges() a slot holds 8 bytes; take_edges() unpacks them to 16 in place, projects
+/// each node once and compacts the runs in place: the edges never exist twice, nor as 40-byte
+/// edges (issue 8).
 class ObstacleReader final : public ExtraOsmReader {
  public:
   explicit ObstacleReader(const SightParameters& parameters) : p_(parameters) {}
