@@ -80,7 +80,8 @@ std::vector<std::string> run_sight_stage(const BuildOptions& options, RoadGraph&
                         std::to_string(obstacles.report.fences) + " fences, " +
                         std::to_string(obstacles.report.edges) + " edges");
   progress.start_stage("sight distance");
-  const SightReport report = compute_sight(graph, terrain, std::move(obstacles.edges), p);
+  const SightReport report = compute_sight(graph, terrain, obstacles.edges, p);
+  obstacles.edges = ObstacleEdges();
   progress.finish_stage(
       std::to_string(report.segments) + " segments, " + std::to_string(report.limited) +
       " LIMITED_VISIBILITY, " + std::to_string(report.lines_of_sight) + " lines of sight, " +

@@ -2,14 +2,20 @@
 // an opaque band of heights. Read in the road network's two passes (ways, then only the nodes
 // those ways use), so memory follows the obstacles and not the file.
 #include <algorithm>
+#include <bit>
 #include <charconv>
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
 #include <cstring>
+#include <functional>
+#include <limits>
 #include <osmium/osm/node.hpp>
 #include <osmium/osm/relation.hpp>
 #include <osmium/osm/way.hpp>
 #include <stdexcept>
 #include <thread>
+#include <utility>
 
 #include "roadcross/preprocess/sight.hpp"
 
@@ -30,6 +36,10 @@ double parse_height_m(std::string_view text) noexcept {
 
 namespace {
 
+// Packed slots that hold no location (a valid location's x is within +-180e7).
+constexpr std::int32_t kMissing = std::numeric_limits<std::int32_t>::max();
+constexpr std::int32_t kReference = std::numeric_limits<std::int32_t>::min();
+
 /// A height from `height_key`, else `levels_key` times the level height; NaN when neither.
 double tagged_height_m(const osmium::TagList& tags, const char* height_key, const char* levels_key,
                        double level_height_m) {
@@ -47,6 +57,16 @@ double tagged_height_m(const osmium::TagList& tags, const char* height_key, cons
 }
 
 }  // namespace
+
+void ObstacleReader::put_packed(std::size_t i, const Packed& p) {
+  std::memcpy(reinterpret_cast<std::byte*>(slots_.data()) + sizeof(Packed) * i, &p, sizeof p);
+}
+
+ObstacleReader::Packed ObstacleReader::packed(std::size_t i) const {
+  Packed p;
+  std::memcpy(&p, reinterpret_cast<const std::byte*>(slots_.data()) + sizeof(Packed) * i, sizeof p);
+  return p;
+}
 
 void ObstacleReader::way(const osmium::Way& way) {
   const osmium::TagList& tags = way.tags();
@@ -75,7 +95,15 @@ void ObstacleReader::way(const osmium::Way& way) {
   if (std::isnan(top_m)) top_m = default_m, ++report_.default_height;
   const auto bottom = static_cast<float>(bottom_m), top = static_cast<float>(top_m);
   if (way.nodes().size() < 2 || !(top > bottom)) return;
-  ways_.push_back({refs_.size(), bottom, top});
+  // Slot numbers (a header per way, one per reference, and the cuts of long ways) must fit the
+  // edge ids.
+  const std::size_t k = way.nodes().size();
+  if (cut_slots_ + refs_.size() + ways_.size() + 1 + k + 2 * k >
+      std::numeric_limits<std::uint32_t>::max()) {
+    throw std::length_error("sight: more than 2^32 - 1 obstacle node references");
+  }
+  cut_slots_ += ObstacleEdges::slots_for_chain(k - 1) - (k + 1);
+  ways_.push_back({static_cast<std::uint32_t>(refs_.size() + ways_.size()), bottom, top});
   for (const osmium::NodeRef& ref : way.nodes()) refs_.push_back(ref.ref());
 }
 
@@ -87,38 +115,65 @@ void ObstacleReader::relation(const osmium::Relation& relation) {
 }
 
 void ObstacleReader::ways_done() {
-  node_ids_ = refs_;
-  std::sort(node_ids_.begin(), node_ids_.end());
-  node_ids_.erase(std::unique(node_ids_.begin(), node_ids_.end()), node_ids_.end());
-  node_ids_.shrink_to_fit();
-  // The references become positions in node_ids_ (half the size), read in place.
-  ref_nodes_.resize(refs_.size());
-  // A building's nodes usually have consecutive ids: try the one after the previous first.
-  std::size_t at = 0;
-  for (std::size_t i = 0; i < refs_.size(); ++i) {
-    if (at + 1 < node_ids_.size() && node_ids_[at + 1] == refs_[i]) {
-      ++at;
-    } else if (node_ids_[at] != refs_[i]) {
-      at = static_cast<std::size_t>(std::lower_bound(node_ids_.begin(), node_ids_.end(), refs_[i]) -
-                                    node_ids_.begin());
+  // The ways' slots go after room for the cuts of their long chains, so that take_edges, writing
+  // runs from slot 0, never overtakes what it has not read yet.
+  for (Way& way : ways_) way.first_slot += static_cast<std::uint32_t>(cut_slots_);
+  node_slots_.resize(refs_.size());
+  std::size_t r = 0;
+  for (std::size_t w = 0; w < ways_.size(); ++w) {
+    const std::size_t end =
+        w + 1 < ways_.size() ? ways_[w + 1].first_slot : cut_slots_ + refs_.size() + ways_.size();
+    for (std::size_t slot = ways_[w].first_slot + 1; slot < end; ++slot, ++r) {
+      const auto id = static_cast<std::uint64_t>(refs_[r]);
+      node_slots_[r] = {static_cast<std::uint32_t>(id), static_cast<std::uint32_t>(id >> 32),
+                        static_cast<std::uint32_t>(slot)};
     }
-    ref_nodes_[i] = static_cast<std::uint32_t>(at);
   }
+  const std::size_t slots = cut_slots_ + refs_.size() + ways_.size();
   std::vector<std::int64_t>().swap(refs_);
-  nodes_.assign(node_ids_.size(), PlanePoint{NAN, NAN});
+  // By id alone: the slots of one node all get the same location, in any order.
+  std::sort(node_slots_.begin(), node_slots_.end(),
+            [](const NodeSlot& x, const NodeSlot& y) { return x.id() < y.id(); });
+  slots_.resize(slots);  // untouched: only the packed first half is written
+  for (std::size_t i = 0; i < slots; ++i) put_packed(i, {kMissing, kMissing});
+  if (node_slots_.empty()) return;
+  // Buckets of ids: at most 2^20, so the shift makes the id range fit.
+  min_id_ = node_slots_.front().id();
+  const auto range = static_cast<std::uint64_t>(node_slots_.back().id() - min_id_);
+  id_shift_ = std::max(0, static_cast<int>(std::bit_width(range)) - 20);
+  bucket_begins_.assign(static_cast<std::size_t>(range >> id_shift_) + 2, 0);
+  std::size_t at = 0;
+  for (std::size_t b = 0; b < bucket_begins_.size(); ++b) {
+    while (at < node_slots_.size() &&
+           (static_cast<std::uint64_t>(node_slots_[at].id() - min_id_) >> id_shift_) < b) {
+      ++at;
+    }
+    bucket_begins_[b] = static_cast<std::uint32_t>(at);
+  }
 }
 
 void ObstacleReader::nodes_done() {
   // The ids only served the lookup in node(): the segment table and the edges come next.
-  std::vector<std::int64_t>().swap(node_ids_);
+  std::vector<NodeSlot>().swap(node_slots_);
+  std::vector<std::uint32_t>().swap(bucket_begins_);
 }
 
 void ObstacleReader::node(const osmium::Node& node) {
-  const auto it = std::lower_bound(node_ids_.begin(), node_ids_.end(), node.id());
-  if (it == node_ids_.end() || *it != node.id()) return;
+  if (node_slots_.empty() || node.id() < min_id_ || node.id() > node_slots_.back().id()) return;
+  const std::size_t b =
+      static_cast<std::size_t>(static_cast<std::uint64_t>(node.id() - min_id_) >> id_shift_);
+  const auto end = node_slots_.begin() + bucket_begins_[b + 1];
+  auto it = std::lower_bound(node_slots_.begin() + bucket_begins_[b], end, node.id(),
+                             [](const NodeSlot& x, std::int64_t id) { return x.id() < id; });
+  if (it == end || it->id() != node.id()) return;
   const osmium::Location l = node.location();
   if (!l.valid()) return;
-  nodes_[static_cast<std::size_t>(it - node_ids_.begin())] = {l.lon(), l.lat()};
+  // The first reference holds the location, the others point to it (projected once).
+  const std::uint32_t first = it->slot;
+  put_packed(first, {l.x(), l.y()});
+  for (++it; it != end && it->id() == node.id(); ++it) {
+    put_packed(it->slot, {kReference, std::bit_cast<std::int32_t>(first)});
+  }
 }
 
 Obstacles ObstacleReader::take_edges(const geo::UtmZone& zone, const PlanePoint& min,
@@ -129,55 +184,108 @@ Obstacles ObstacleReader::take_edges(const geo::UtmZone& zone, const PlanePoint&
   // keeps both ends of long edges (a wall, a large hall) that reach the sight lines' area.
   constexpr double kLongEdgeM = 1000.0;
   const double node_reach_m = reach_m + kLongEdgeM;
+  // Unpacked backwards: slot i's 16 bytes (from byte 16 i) are at or after its own 8 packed
+  // bytes (8 i) and after those of every slot not yet unpacked (< i). (lon, lat) as the node
+  // pass read them: the same doubles as Location::lon() and lat() there.
+  for (std::size_t i = slots_.size(); i-- > 0;) {
+    const Packed p = packed(i);
+    RawPoint q{NAN, NAN};
+    if (p.x == kReference) {
+      q = {NAN, double(std::bit_cast<std::uint32_t>(p.y))};
+    } else if (p.x != kMissing) {
+      const osmium::Location l(p.x, p.y);
+      q = {l.lon(), l.lat()};
+    }
+    slots_[i] = q;
+  }
   // (lon, lat) -> UTM in place, NaN when missing or far; on every core (the projection is most
-  // of this stage's time).
+  // of this stage's time). A node's other references (NaN, its first slot) are copied after.
+  const auto project_one = [&](RawPoint& q) {
+    if (std::isnan(q.x)) return;
+    bool kept = false;
+    geo::UtmPoint u;
+    try {
+      u = geo::wgs84_to_utm(q.y, q.x, zone);
+      kept = u.easting_m >= min.x - node_reach_m && u.easting_m <= max.x + node_reach_m &&
+             u.northing_m >= min.y - node_reach_m && u.northing_m <= max.y + node_reach_m;
+    } catch (const std::invalid_argument&) {
+      // Too far from the roads' UTM zone to project: far from every road as well.
+    }
+    q = kept ? RawPoint{u.easting_m, u.northing_m} : RawPoint{NAN, NAN};
+  };
   const auto project = [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) project_one(slots_[i]);
+  };
+  const auto copy_references = [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
-      PlanePoint& q = nodes_[i];
-      if (std::isnan(q.x)) continue;
-      bool kept = false;
-      geo::UtmPoint u;
-      try {
-        u = geo::wgs84_to_utm(q.y, q.x, zone);
-        kept = u.easting_m >= min.x - node_reach_m && u.easting_m <= max.x + node_reach_m &&
-               u.northing_m >= min.y - node_reach_m && u.northing_m <= max.y + node_reach_m;
-      } catch (const std::invalid_argument&) {
-        // Too far from the roads' UTM zone to project: far from every road as well.
-      }
-      q = kept ? PlanePoint{u.easting_m, u.northing_m} : PlanePoint{NAN, NAN};
+      const RawPoint q = slots_[i];
+      if (std::isnan(q.x) && !std::isnan(q.y)) slots_[i] = slots_[static_cast<std::size_t>(q.y)];
     }
   };
+  // Headers are (NaN, NaN) until the compaction writes them: both passes leave them.
   const std::size_t threads = std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1, 16);
-  std::vector<std::thread> pool;
-  const std::size_t chunk = (nodes_.size() + threads - 1) / threads;
-  for (std::size_t t = 1; t < threads; ++t) {
-    pool.emplace_back(project, std::min(nodes_.size(), t * chunk),
-                      std::min(nodes_.size(), (t + 1) * chunk));
+  const std::size_t chunk = (slots_.size() + threads - 1) / threads;
+  for (const auto& pass : {std::function<void(std::size_t, std::size_t)>(project),
+                           std::function<void(std::size_t, std::size_t)>(copy_references)}) {
+    std::vector<std::thread> pool;
+    for (std::size_t t = 1; t < threads; ++t) {
+      pool.emplace_back(pass, std::min(slots_.size(), t * chunk),
+                        std::min(slots_.size(), (t + 1) * chunk));
+    }
+    pass(0, std::min(slots_.size(), chunk));
+    for (std::thread& t : pool) t.join();
   }
-  project(0, std::min(nodes_.size(), chunk));
-  for (std::thread& t : pool) t.join();
   // Only edges a sight line can meet: within reach of the roads' box.
-  const auto near = [&](const PlanePoint& a, const PlanePoint& b) {
+  const auto near = [&](const RawPoint& a, const RawPoint& b) {
     return std::max(a.x, b.x) >= min.x - reach_m && std::min(a.x, b.x) <= max.x + reach_m &&
            std::max(a.y, b.y) >= min.y - reach_m && std::min(a.y, b.y) <= max.y + reach_m;
   };
-  out.edges.reserve(ref_nodes_.size() - ways_.size());  // at most: no doubling at the peak
+  // Each way's maximal chains of kept edges become runs, written in place from slot 0 over the
+  // slots read: a way's runs take no more slots than it had plus its cuts' room (before the
+  // first way), unless a far edge between two kept ones splits a chain: then, if they would
+  // overtake the next way, they go to `overflow`, appended at the end (which may then need a
+  // larger array: only when nothing else was dropped).
+  std::vector<RawPoint> way_vertices;
+  ObstacleEdges::Slots overflow;
+  std::vector<std::pair<std::size_t, std::size_t>> chains;  // [first, last] vertex, all kept
+  RawPoint* const base = slots_.data();
+  RawPoint* write = base;
   for (std::size_t w = 0; w < ways_.size(); ++w) {
-    const std::size_t end = w + 1 < ways_.size() ? ways_[w + 1].first_ref : ref_nodes_.size();
-    for (std::size_t i = ways_[w].first_ref + 1; i < end; ++i) {
-      const PlanePoint& a = nodes_[ref_nodes_[i - 1]];
-      const PlanePoint& b = nodes_[ref_nodes_[i]];
-      if (!std::isnan(a.x) && !std::isnan(b.x) && near(a, b)) {
-        out.edges.push_back({a, b, ways_[w].bottom_m, ways_[w].top_m});
+    const RawPoint* first = base + ways_[w].first_slot + 1;
+    const RawPoint* end = base + end_slot(w);
+    way_vertices.assign(first, end);
+    const std::size_t n = way_vertices.size();
+    chains.clear();
+    std::size_t needed = 0;
+    for (std::size_t i = 1, chain_begin = 0; i <= n; ++i) {
+      const bool kept = i < n && !std::isnan(way_vertices[i - 1].x) &&
+                        !std::isnan(way_vertices[i].x) &&
+                        near(way_vertices[i - 1], way_vertices[i]);
+      if (!kept) {
+        if (i - 1 > chain_begin) {
+          chains.emplace_back(chain_begin, i - 1);
+          needed += ObstacleEdges::slots_for_chain(i - 1 - chain_begin);
+          out.report.edges += i - 1 - chain_begin;
+        }
+        chain_begin = i;
       }
     }
+    const bool in_place = write + needed <= end;
+    if (!in_place) overflow.resize(overflow.size() + needed);
+    RawPoint* to = in_place ? write : overflow.data() + overflow.size() - needed;
+    for (const auto& [b, l] : chains) {
+      to = ObstacleEdges::write_chain(to, ways_[w].bottom_m, ways_[w].top_m,
+                                      way_vertices.data() + b, way_vertices.data() + l);
+    }
+    if (in_place) write = to;
   }
-  out.report.edges = out.edges.size();
-  // What was read is no longer needed: the edges are what the sight stage uses.
+  slots_.resize(static_cast<std::size_t>(write - base));
+  slots_.insert(slots_.end(), overflow.begin(), overflow.end());
+  // What was read is no longer needed: the edges are what the sight stage uses. (Not shrunk:
+  // that would copy them; what the dropped far ways leave is at most what was read.)
   std::vector<Way>().swap(ways_);
-  std::vector<std::uint32_t>().swap(ref_nodes_);
-  std::vector<std::int64_t>().swap(node_ids_);
-  std::vector<PlanePoint>().swap(nodes_);
+  out.edges = ObstacleEdges::adopt(std::move(slots_));
+  slots_ = {};
   return out;
 }
 

@@ -218,7 +218,7 @@ Path follow_road(const RoadGraph& graph, const Incidences& incidences,
 /// What blocks a line of sight: the terrain and the obstacle prisms.
 class Scene {
  public:
-  Scene(const Grid* terrain, const std::vector<ObstacleEdge>& edges)
+  Scene(const Grid* terrain, const ObstacleEdges& edges)
       : terrain_(terrain), edges_(edges), grid_(edges) {}
 
   /// Ground elevation at p: the terrain, or `fallback` where it has none (or without it).
@@ -248,7 +248,7 @@ class Scene {
       std::uint32_t& slot = tested[i & 63];
       if (slot == i) return false;
       slot = i;
-      return !fan.edge_clear(edges_[i].a, edges_[i].b);
+      return !fan.edge_clear(edges_.a(i), edges_.b(i));
     });
   }
 
@@ -270,23 +270,24 @@ class Scene {
   /// The line passes through the opaque band of an obstacle edge it crosses in plan.
   bool obstacle_blocks(const Point3& eye, const Point3& target) const {
     const PlanLine line({eye.x, eye.y}, {target.x, target.y});
-    return grid_.any_along({eye.x, eye.y}, {target.x, target.y}, [&](std::uint32_t i) {
-      return edge_blocks(edges_[i], line, eye, target);
-    });
+    return grid_.any_along({eye.x, eye.y}, {target.x, target.y},
+                           [&](std::uint32_t i) { return edge_blocks(i, line, eye, target); });
   }
 
-  bool edge_blocks(const ObstacleEdge& edge, const PlanLine& line, const Point3& eye,
+  /// Edge i's band is looked up only once the line crosses it in plan (rarely).
+  bool edge_blocks(std::uint32_t i, const PlanLine& line, const Point3& eye,
                    const Point3& target) const {
-    const double t = crossing_parameter(line, edge.a, edge.b);
+    const double t = crossing_parameter(line, edges_.a(i), edges_.b(i));
     if (std::isnan(t)) return false;
     const double z = eye.z + t * (target.z - eye.z);
     const PlanePoint p{eye.x + t * (target.x - eye.x), eye.y + t * (target.y - eye.y)};
     const double base = ground(p, eye.ground_m + t * (target.ground_m - eye.ground_m));
+    const ObstacleEdge edge = edges_[i];
     return z >= base + edge.bottom_m && z <= base + edge.top_m;
   }
 
   const Grid* terrain_;
-  const std::vector<ObstacleEdge>& edges_;
+  const ObstacleEdges& edges_;
   EdgeGrid grid_;
 };
 
@@ -513,9 +514,8 @@ void sight_of_segment(const Context& c, Segment& s, SightWork& work, Fan& fan) {
 
 }  // namespace
 
-SightReport compute_sight(RoadGraph& graph, const Grid* terrain,
-                          std::vector<ObstacleEdge> obstacles, const SightParameters& p) {
-  sight_detail::sort_by_cell(obstacles);
+SightReport compute_sight(RoadGraph& graph, const Grid* terrain, const ObstacleEdges& obstacles,
+                          const SightParameters& p) {
   const Scene scene(terrain, obstacles);
   std::vector<std::vector<double>> cumulative;
   cumulative.reserve(graph.pieces.size());

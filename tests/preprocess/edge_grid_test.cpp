@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <random>
 #include <set>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -205,6 +206,113 @@ TEST(EdgeGrid, AgreesWithAPlainSetOfCellsPerEdge) {
     });
     ASSERT_EQ(offered(grid, a, b), expected) << "line " << k;
   }
+}
+
+TEST(ObstacleEdges, ARingIsItsVerticesOnceAfterAHeader) {
+  // A 10 m square with a band of 2-9 m: header, 4 corners, the first corner again (6 slots of
+  // 16 bytes for 4 edges, against 4 x 40 bytes as separate edges); then a wall of one edge.
+  rp::ObstacleEdges edges;
+  edges.begin_run(2.0f, 9.0f);
+  for (const PlanePoint& p : std::vector<PlanePoint>{{0, 0}, {10, 0}, {10, 10}, {0, 10}, {0, 0}})
+    edges.add_vertex(p);
+  edges.begin_run(0.0f, 2.5f);
+  edges.add_vertex({20, 0});
+  edges.add_vertex({20, 30});
+  EXPECT_EQ(edges.slots(), 9u);
+  EXPECT_EQ(edges.edges(), 5u);
+  std::vector<std::size_t> ids;
+  for (std::size_t i = 0; i < edges.slots(); ++i) {
+    if (edges.is_edge(i)) ids.push_back(i);
+  }
+  EXPECT_EQ(ids, (std::vector<std::size_t>{1, 2, 3, 4, 7}));
+  EXPECT_EQ(edges.a(3).x, 10.0);
+  EXPECT_EQ(edges.a(3).y, 10.0);
+  EXPECT_EQ(edges.b(3).x, 0.0);
+  EXPECT_EQ(edges.b(3).y, 10.0);
+  EXPECT_EQ(edges.bottom_m(4), 2.0f);
+  EXPECT_EQ(edges.top_m(4), 9.0f);
+  const rp::ObstacleEdge wall = edges[7];
+  EXPECT_EQ(wall.a.x, 20.0);
+  EXPECT_EQ(wall.b.y, 30.0);
+  EXPECT_EQ(wall.bottom_m, 0.0f);
+  EXPECT_EQ(wall.top_m, 2.5f);
+}
+
+TEST(ObstacleEdges, LongChainsAreCutIntoRunsOfAtMost64Edges) {
+  // A fence of 130 edges along x (vertices x = 0, 1, ..., 130): runs of 64, 64 and 2 edges,
+  // each after a header and starting at the last vertex of the one before: 130 + 2 + 2 * 2 =
+  // 136 slots. Written vertex by vertex and as a chain, the same slots.
+  std::vector<PlanePoint> vertices;
+  std::vector<rp::RawPoint> raw;
+  for (int x = 0; x <= 130; ++x) {
+    vertices.push_back({double(x), 5.0});
+    raw.push_back({double(x), 5.0});
+  }
+  rp::ObstacleEdges added;
+  added.begin_run(0.0f, 1.5f);
+  for (const PlanePoint& p : vertices) added.add_vertex(p);
+  EXPECT_EQ(rp::ObstacleEdges::slots_for_chain(130), 136u);
+  ASSERT_EQ(added.slots(), 136u);
+  EXPECT_EQ(added.edges(), 130u);
+  // Run 2's header is slot 66 (after header 0 and vertices 0..64 in slots 1..65); its first
+  // vertex, slot 67, is x = 64 again.
+  EXPECT_FALSE(added.is_edge(65));
+  EXPECT_FALSE(added.is_edge(66));
+  EXPECT_EQ(added.a(67).x, 64.0);
+  EXPECT_EQ(added.b(67).x, 65.0);
+  EXPECT_EQ(added.top_m(134), 1.5f);  // the last edge, 129 -> 130, finds its header at 132
+  EXPECT_EQ(added.a(134).x, 129.0);
+  rp::ObstacleEdges::Slots written(136);
+  const rp::RawPoint* end =
+      rp::ObstacleEdges::write_chain(written.data(), 0.0f, 1.5f, raw.data(), raw.data() + 130);
+  EXPECT_EQ(end, written.data() + 136);
+  const rp::ObstacleEdges adopted = rp::ObstacleEdges::adopt(written);
+  for (std::size_t i = 0; i < 136; ++i) {
+    ASSERT_EQ(adopted.is_edge(i), added.is_edge(i)) << i;
+    if (!added.is_edge(i)) continue;
+    const auto id = static_cast<std::uint32_t>(i);
+    EXPECT_EQ(adopted.a(id).x, added.a(id).x);
+    EXPECT_EQ(adopted.b(id).x, added.b(id).x);
+    EXPECT_EQ(adopted.top_m(id), 1.5f);
+  }
+  // A run of 65 edges, or vertices before any header, are refused.
+  rp::ObstacleEdges::Slots too_long(67, rp::RawPoint{1.0, 1.0});
+  too_long[0] = rp::ObstacleEdges::header(0.0f, 1.0f);
+  EXPECT_THROW(rp::ObstacleEdges::adopt(too_long), std::logic_error);
+  too_long.pop_back();
+  EXPECT_NO_THROW(rp::ObstacleEdges::adopt(too_long));
+  EXPECT_THROW(rp::ObstacleEdges::adopt({{1.0, 1.0}, {2.0, 2.0}}), std::logic_error);
+}
+
+TEST(ObstacleEdges, SeparateEdgesJoinWhenOneStartsWhereTheLastEndsWithItsBand) {
+  // (0,0)->(5,0)->(5,5) chain (same band); (5,5)->(9,9) has another band: a new run; (1,1)->
+  // (2,2) does not start at (9,9): a new run. Slots: [H 0 1 2] [H 2 3] [H 4 5].
+  const rp::ObstacleEdges edges{{{0, 0}, {5, 0}, 0.0f, 8.0f},
+                                {{5, 0}, {5, 5}, 0.0f, 8.0f},
+                                {{5, 5}, {9, 9}, 0.0f, 3.0f},
+                                {{1, 1}, {2, 2}, 0.0f, 3.0f}};
+  EXPECT_EQ(edges.slots(), 10u);
+  EXPECT_EQ(edges.edges(), 4u);
+  EXPECT_EQ(edges[2].b.y, 5.0);
+  EXPECT_EQ(edges[2].top_m, 8.0f);
+  EXPECT_EQ(edges[5].a.x, 5.0);
+  EXPECT_EQ(edges[5].top_m, 3.0f);
+  EXPECT_EQ(edges[8].a.x, 1.0);
+}
+
+TEST(EdgeGrid, OffersTheIdsOfAnObstacleEdgesStore) {
+  // Runs as in the test above, one metre off the cell lines: edge ids 1, 2, 5, 8 in cell (0, 0)
+  // and 11 in cell (2, 2). Along row 0 from x = -8 to 30 (cells -1 to 1) the grid offers the
+  // ids of cell (0, 0) in increasing order.
+  const rp::ObstacleEdges edges{{{1, 1}, {6, 1}, 0.0f, 8.0f},
+                                {{6, 1}, {6, 6}, 0.0f, 8.0f},
+                                {{6, 6}, {10, 10}, 0.0f, 3.0f},
+                                {{2, 2}, {3, 3}, 0.0f, 3.0f},
+                                {{40, 40}, {41, 41}, 0.0f, 3.0f}};
+  const sd::EdgeGrid grid(edges);
+  EXPECT_EQ(grid.entries(), 5u);
+  EXPECT_EQ(offered(grid, {-8, 8}, {30, 8}), (std::vector<std::uint32_t>{1, 2, 5, 8}));
+  EXPECT_EQ(offered(grid, {35, 40}, {45, 40}), (std::vector<std::uint32_t>{11}));
 }
 
 TEST(EdgeGrid, SortByCellOrdersByTileThenCellOfTheFirstEnd) {

@@ -12,6 +12,7 @@
 
 #include "osm_fixture.hpp"
 #include "roadcross/preprocess/build.hpp"
+#include "roadcross/preprocess/progress.hpp"
 #include "roadcross/preprocess/road_network.hpp"
 #include "roadcross/preprocess/segments.hpp"
 #include "roadcross/preprocess/sight.hpp"
@@ -397,4 +398,86 @@ TEST(SightBuild, BuildingsFromOsmReachTheDatabase) {
       "'%LIMITED_VISIBILITY%'");
   ASSERT_TRUE(n.step());
   EXPECT_EQ(n.column_int64(0), 0);
+}
+
+TEST(SightObstacles, ReaderKeepsEachWaysChainsOfNearEdgesAsRuns) {
+  // Road 1 spans the box x -200..0, y 0..200 (offsets from (kE0, kN0)); edges are kept within
+  // 100 m of it, nodes within 1 100 m. Ways in id order:
+  //  3  a fence of 65 edges (nodes 100-165, x = -200, -197, ..., -5 at y = -5): runs of 64 and
+  //     1 edges, 69 slots (the second run repeats vertex 64 after its own header) against the
+  //     way's 67: the reader lays the ways out after 2 slots of room for that cut; slots 0-68;
+  //  5  a wall 61-62-63-64 whose middle edge (x = 500) is beyond 100 m: two chains, 6 slots
+  //     against the way's own 5 (header + 4 references) and no room left before the next way,
+  //     so its runs go after all the others;
+  // 10  a building ring 11-12-13-14-11, band 2-9 m: 4 edges, slots 69-74;
+  // 30  a wall 31-32-(33 not in the file)-34: only 31-32 is an edge, slots 75-77;
+  // 40  a fence 5 km away: nothing;
+  // 50  a wall 51-(52 3 km away)-53-54: only 53-54, slots 78-80;
+  // then wall 5's runs, slots 81-83 and 84-86.
+  TempDir dir;
+  namespace t = roadcross::testing;
+  std::string fence_nodes, fence_refs;
+  for (int j = 0; j <= 65; ++j) {
+    fence_nodes += node_at(100 + j, -200 + 3 * j, -5);
+    fence_refs += std::to_string(100 + j) + " ";
+  }
+  const std::string osm = t::osm_document(
+      node_at(1, -200, 0) + node_at(2, 0, 0) + node_at(3, 0, 200) + node_at(11, -100, 10) +
+      node_at(12, -10, 10) + node_at(13, -10, 100) + node_at(14, -100, 100) + node_at(31, 20, 20) +
+      node_at(32, 40, 20) + node_at(34, 60, 20) + node_at(41, 5000, 0) + node_at(42, 5010, 0) +
+      node_at(51, 20, -20) + node_at(52, 3000, -20) + node_at(53, 30, -30) + node_at(54, 40, -30) +
+      node_at(61, 50, 50) + node_at(62, 500, 50) + node_at(63, 500, 60) + node_at(64, 50, 60) +
+      fence_nodes + t::osm_way(1, "1 2 3", "highway=residential") +
+      t::osm_way(3, fence_refs, "barrier=fence") + t::osm_way(5, "61 62 63 64", "barrier=wall") +
+      t::osm_way(10, "11 12 13 14 11", "building=yes;height=9;min_height=2") +
+      t::osm_way(30, "31 32 33 34", "barrier=wall") + t::osm_way(40, "41 42", "barrier=fence") +
+      t::osm_way(50, "51 52 53 54", "barrier=wall"));
+  const rp::SightParameters p;
+  rp::ObstacleReader reader(p);
+  rp::Progress progress(false);
+  rp::read_road_network(dir.write("o.osm", osm), progress, &reader);
+  const rp::Obstacles o = reader.take_edges(kZone, {kE0 - 200, kN0}, {kE0, kN0 + 200}, 100.0);
+  EXPECT_EQ(o.report.buildings, 1u);
+  EXPECT_EQ(o.report.walls, 3u);
+  EXPECT_EQ(o.report.fences, 2u);
+  EXPECT_EQ(o.report.edges, 73u);
+  ASSERT_EQ(o.edges.slots(), 87u);
+  std::vector<std::size_t> ids;
+  for (std::size_t i = 0; i < o.edges.slots(); ++i) {
+    if (o.edges.is_edge(i)) ids.push_back(i);
+  }
+  std::vector<std::size_t> want;
+  for (std::size_t i = 1; i <= 64; ++i) want.push_back(i);
+  for (std::size_t i : {67, 70, 71, 72, 73, 76, 79, 82, 85}) want.push_back(i);
+  EXPECT_EQ(ids, want);
+  // The node positions went through 7 decimals of a degree: within 2 cm.
+  const auto expect_at = [](const PlanePoint& q, double x, double y) {
+    EXPECT_NEAR(q.x, kE0 + x, 0.02);
+    EXPECT_NEAR(q.y, kN0 + y, 0.02);
+  };
+  expect_at(o.edges.a(1), -200, -5);
+  expect_at(o.edges.a(64), -11, -5);
+  expect_at(o.edges.b(64), -8, -5);
+  expect_at(o.edges.a(67), -8, -5);
+  expect_at(o.edges.b(67), -5, -5);
+  EXPECT_EQ(o.edges.top_m(64), 1.5f);  // fence_height_m
+  EXPECT_EQ(o.edges.top_m(67), 1.5f);
+  expect_at(o.edges.a(70), -100, 10);
+  expect_at(o.edges.b(70), -10, 10);
+  expect_at(o.edges.a(73), -100, 100);
+  EXPECT_EQ(o.edges.b(73).x, o.edges.a(70).x);  // the ring's first node, projected once
+  EXPECT_EQ(o.edges.b(73).y, o.edges.a(70).y);
+  EXPECT_EQ(o.edges.bottom_m(72), 2.0f);
+  EXPECT_EQ(o.edges.top_m(72), 9.0f);
+  expect_at(o.edges.a(76), 20, 20);
+  expect_at(o.edges.b(76), 40, 20);
+  EXPECT_EQ(o.edges.bottom_m(76), 0.0f);
+  EXPECT_EQ(o.edges.top_m(76), 2.0f);  // wall_height_m
+  expect_at(o.edges.a(79), 30, -30);
+  expect_at(o.edges.b(79), 40, -30);
+  expect_at(o.edges.a(82), 50, 50);
+  expect_at(o.edges.b(82), 500, 50);
+  expect_at(o.edges.a(85), 500, 60);
+  expect_at(o.edges.b(85), 50, 60);
+  EXPECT_EQ(o.edges.top_m(85), 2.0f);
 }

@@ -89,30 +89,21 @@ class EdgeGrid {
   static constexpr std::size_t kTileCells = std::size_t{1} << (2 * kTileShift);
 
   /// Two walks over the edges' cells: the first counts the edges of each cell, the second files
-  /// them (every cell's edges in increasing index order).
+  /// them (every cell's edges in increasing index order). The edges' indices are their
+  /// positions in the vector.
   explicit EdgeGrid(const std::vector<ObstacleEdge>& edges) {
-    if (edges.size() > std::numeric_limits<std::uint32_t>::max())
-      throw std::length_error("sight: more than 2^32 - 1 obstacle edges");
-    table_.assign(64, Slot{});
-    mask_ = table_.size() - 1;
-    for (const ObstacleEdge& e : edges) {
-      for_cells_along(e.a, e.b, kCellM, [&](std::int64_t c, std::int64_t r) {
-        ++begins_[cell_index(c, r)];  // the count, for now
-        return false;
-      });
-    }
-    // Counts -> ends (inclusive prefix sums); the second walk, run backwards over the edges,
-    // files each edge at --end, which leaves every cell's begin in place.
-    begins_.push_back(0);
-    std::uint32_t sum = 0;
-    for (std::uint32_t& b : begins_) b = (sum += b);
-    edges_.resize(sum);
-    for (std::size_t i = edges.size(); i-- > 0;) {
-      for_cells_along(edges[i].a, edges[i].b, kCellM, [&](std::int64_t c, std::int64_t r) {
-        edges_[--begins_[cell_index(c, r)]] = static_cast<std::uint32_t>(i);
-        return false;
-      });
-    }
+    build(edges.size(), [&](std::size_t i, PlanePoint& a, PlanePoint& b) {
+      a = edges[i].a, b = edges[i].b;
+      return true;
+    });
+  }
+  /// The same with the edges' ids in the store (its slots that are no edge are skipped).
+  explicit EdgeGrid(const ObstacleEdges& edges) {
+    build(edges.slots(), [&](std::size_t i, PlanePoint& a, PlanePoint& b) {
+      if (!edges.is_edge(i)) return false;
+      a = edges.a(static_cast<std::uint32_t>(i)), b = edges.b(static_cast<std::uint32_t>(i));
+      return true;
+    });
   }
 
   /// True when test(edge index) is true for an edge in a cell the segment a->b passes through
@@ -209,6 +200,39 @@ class EdgeGrid {
     std::uint32_t tile = 0;  ///< tile index: its cells are begins_[kTileCells * tile ...]
     bool used = false;
   };
+
+  /// ends(i, a, b): false when id i is no edge, else true with its two ends in a and b.
+  template <typename Ends>
+  void build(std::size_t ids, Ends&& ends) {
+    if (ids > std::numeric_limits<std::uint32_t>::max())
+      throw std::length_error("sight: more than 2^32 - 1 obstacle edge ids");
+    table_.assign(64, Slot{});
+    mask_ = table_.size() - 1;
+    PlanePoint from, to;
+    for (std::size_t i = 0; i < ids; ++i) {
+      if (!ends(i, from, to)) continue;
+      for_cells_along(from, to, kCellM, [&](std::int64_t c, std::int64_t r) {
+        ++begins_[cell_index(c, r)];  // the count, for now
+        return false;
+      });
+    }
+    // Counts -> ends (inclusive prefix sums); the second walk, run backwards over the edges,
+    // files each edge at --end, which leaves every cell's begin in place.
+    begins_.push_back(0);
+    // The tile table's growth slack goes before the entries are allocated (its copy then adds
+    // nothing to the peak).
+    begins_.shrink_to_fit();
+    std::uint32_t sum = 0;
+    for (std::uint32_t& b : begins_) b = (sum += b);
+    edges_.resize(sum);
+    for (std::size_t i = ids; i-- > 0;) {
+      if (!ends(i, from, to)) continue;
+      for_cells_along(from, to, kCellM, [&](std::int64_t c, std::int64_t r) {
+        edges_[--begins_[cell_index(c, r)]] = static_cast<std::uint32_t>(i);
+        return false;
+      });
+    }
+  }
 
   static std::size_t cell_in_tile(std::int64_t column, std::int64_t row) {
     return static_cast<std::size_t>(((row & (kTileSide - 1)) << kTileShift) |

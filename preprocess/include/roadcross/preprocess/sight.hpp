@@ -53,7 +53,7 @@ struct ObstacleReport {
 };
 
 struct Obstacles {
-  std::vector<ObstacleEdge> edges;
+  ObstacleEdges edges;  ///< runs sorted by the tile and cell of their first vertex
   ObstacleReport report;
 };
 
@@ -62,8 +62,14 @@ double parse_height_m(std::string_view text) noexcept;
 
 /// Reads building footprints (closed ways with building=*, except roof and no) and
 /// barrier=wall/fence ways in the road network's two passes: give it to read_road_network().
-/// Holds per obstacle way 16 bytes, per node reference 4 and per obstacle node 16 (its location;
-/// 8 more for its id during the node pass) until take_edges().
+/// The way pass keeps per obstacle way 12 bytes and per node reference 8 (its id). Then every
+/// reference gets the slot it will have among the edges (ObstacleEdges' layout: a header slot
+/// before each way), filled in the node pass with the node's location (its first reference) or
+/// the slot of its first reference (the others: a node shared by two buildings, a ring's last
+/// node); the look-up is by id in a sorted table of 12 bytes a reference, freed after the pass.
+/// Until take_edges() a slot holds 8 bytes; take_edges() unpacks them to 16 in place, projects
+/// each node once and compacts the runs in place: the edges never exist twice, nor as 40-byte
+/// edges (issue 8).
 class ObstacleReader final : public ExtraOsmReader {
  public:
   explicit ObstacleReader(const SightParameters& parameters) : p_(parameters) {}
@@ -75,22 +81,48 @@ class ObstacleReader final : public ExtraOsmReader {
   void nodes_done() override;
 
   /// The edges that come within `reach_m` of the box [min, max] (UTM, zone `zone`); nodes more
-  /// than 1 km beyond that are dropped with their edges. Frees what was read.
+  /// than 1 km beyond that are dropped with their edges. Each way's chains of such edges become
+  /// runs, in the ways' order in the file. Frees what was read.
   Obstacles take_edges(const geo::UtmZone& zone, const PlanePoint& min, const PlanePoint& max,
                        double reach_m);
 
  private:
   struct Way {
-    std::size_t first_ref = 0;  ///< its first node reference in ref_nodes_
+    std::uint32_t first_slot = 0;  ///< its header slot; its vertices follow
     float bottom_m = 0.0f, top_m = 0.0f;
   };
+  /// A node reference's slot, by node id (12 bytes, not 16).
+  struct NodeSlot {
+    std::uint32_t id_low = 0, id_high = 0, slot = 0;
+    std::int64_t id() const {
+      return static_cast<std::int64_t>((std::uint64_t{id_high} << 32) | id_low);
+    }
+  };
+  /// Slots of ways_[w]'s vertices: [first_slot + 1, end_slot(w)).
+  std::size_t end_slot(std::size_t w) const {
+    return w + 1 < ways_.size() ? ways_[w + 1].first_slot : slots_.size();
+  }
   const SightParameters& p_;
   ObstacleReport report_;
   std::vector<Way> ways_;
-  std::vector<std::int64_t> refs_;        ///< node ids of ways_ (first pass only)
-  std::vector<std::uint32_t> ref_nodes_;  ///< the same as positions in node_ids_
-  std::vector<std::int64_t> node_ids_;    ///< sorted, unique; freed after the node pass
-  std::vector<PlanePoint> nodes_;         ///< (lon, lat) of node_ids_, NaN when not in the file
+  std::size_t cut_slots_ = 0;         ///< slots the cuts of long chains add (before the ways')
+  std::vector<std::int64_t> refs_;    ///< node ids of ways_ (first pass only)
+  std::vector<NodeSlot> node_slots_;  ///< sorted by id; node pass only
+  /// node_slots_ of the ids in [min_id_ + (b << id_shift_), min_id_ + ((b + 1) << id_shift_))
+  /// begin at bucket_begins_[b]: a node's look-up searches one bucket (2^20 of them, 4 MB).
+  std::vector<std::uint32_t> bucket_begins_;
+  std::int64_t min_id_ = 0;
+  int id_shift_ = 0;
+  /// cut_slots_ free slots, then per way a header slot and per reference (lon, lat); or (NaN,
+  /// the slot of the node's first reference); or (NaN, NaN) when the node is not in the file.
+  /// Until take_edges() each slot is 8 bytes (Packed, in the first half of the memory; the
+  /// second half is allocated but never touched, so not resident), then unpacked in place.
+  ObstacleEdges::Slots slots_;
+  struct Packed {
+    std::int32_t x, y;  ///< a Location's; or (kReference, the first slot); or kMissing twice
+  };
+  void put_packed(std::size_t i, const Packed& p);
+  Packed packed(std::size_t i) const;
 };
 
 struct SightReport {
@@ -105,10 +137,11 @@ struct SightReport {
 
 /// Fills the sight fields of every segment (run after terrain and context). `terrain` is the
 /// elevation grid (nullptr: flat ground); road surface elevations are taken from it, and from
-/// elevation_m at the robot's own segment (bridges). Uses every core. Takes the edges (move
-/// them in: they are sorted by place, in place, and freed at the end).
-SightReport compute_sight(RoadGraph& graph, const Grid* terrain,
-                          std::vector<ObstacleEdge> obstacles, const SightParameters& parameters);
+/// elevation_m at the robot's own segment (bridges). Uses every core. The answers do not depend
+/// on the order of the edges; their order in memory only makes it faster (see
+/// ObstacleReader::take_edges).
+SightReport compute_sight(RoadGraph& graph, const Grid* terrain, const ObstacleEdges& obstacles,
+                          const SightParameters& parameters);
 
 /// In cost mode (limited_visibility_unsuitable = 0), adds rank_penalty to the rank of every
 /// LIMITED_VISIBILITY segment (clamped to 14) and recomputes its score; run after the ranks.
