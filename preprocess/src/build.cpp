@@ -198,6 +198,12 @@ BuildSummary run_build(const BuildOptions& options) {
   // context's scores, overrides and BUSY_ROAD, then rank/score.
   progress.start_stage("geometry cost");
   compute_geometry_costs(graph, options.parameters.geometry);
+  // The node degrees were the geometry stage's (junctions); counted for the summary and freed
+  // before the terrain stage, whose tiles and stored grid make the DEM build's peak.
+  std::size_t junctions = 0;
+  for (const auto& [node, degree] : graph.degree) junctions += degree >= 3 ? 1 : 0;
+  graph.degree = {};
+  return_freed_memory();
   progress.finish_stage("class, junctions, curvature");
   const bool has_elevation = !options.elevation.sources.empty();
   TerrainReport terrain;
@@ -282,7 +288,7 @@ BuildSummary run_build(const BuildOptions& options) {
   summary.road_ways = road_ways;
   summary.pieces = graph.pieces.size();
   summary.segments = graph.segments.size();
-  for (const auto& [node, degree] : graph.degree) summary.junctions += degree >= 3 ? 1 : 0;
+  summary.junctions = junctions;
   for (const Segment& s : graph.segments) summary.total_length_m += s.length_m;
   summary.missing_node_refs = graph.dropped_node_refs;
   summary.crossings = context.crossings.size();
