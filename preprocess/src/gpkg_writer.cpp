@@ -383,6 +383,14 @@ void GeoPackageWriter::write_segment_index(const RoadGraph& graph) {
   try {
     segment_extent_ = write_segment_rtree(*db_, graph);
     indexed_segments_ = graph.segments.size();
+    // The index's pages (up to the 64 MiB cache, dirty in the open transaction) are written to
+    // the file now and their memory freed: the cost stages after it (the terrain stage's tiles
+    // and stored grid, the sight stage's obstacles) make the build's peak. The same pages are
+    // written either way, so the same bytes.
+    if (const int rc = sqlite3_db_cacheflush(db_->handle()); rc != SQLITE_OK) {
+      throw sqlite::sqlite_error(rc, sqlite3_errmsg(db_->handle()));
+    }
+    sqlite3_db_release_memory(db_->handle());
   } catch (const sqlite::sqlite_error& e) {
     throw OutputError(std::string("cannot write the database: ") + e.what());
   }
