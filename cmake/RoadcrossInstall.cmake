@@ -63,6 +63,15 @@ if(TARGET roadcross_python)
   set(CPACK_DEBIAN_PYTHON_PACKAGE_DEPENDS
       "python3 (>= ${Python_VERSION_MAJOR}.${Python_VERSION_MINOR}), python3 (<< ${Python_VERSION_MAJOR}.${roadcross_python_next_minor})")
 endif()
+# roadcross-ros: the ROS1 node with its messages, services, launch and parameter files, in
+# catkin's layout under the prefix (the node's libraries, roscpp among them, found by shlibdeps;
+# the generated Python messages need rospy's message runtime).
+if(TARGET roadcross_node)
+  list(APPEND CPACK_COMPONENTS_ALL ros)
+  set(CPACK_DEBIAN_ROS_PACKAGE_NAME roadcross-ros)
+  set(CPACK_DEBIAN_ROS_PACKAGE_SHLIBDEPS ON)
+  set(CPACK_DEBIAN_ROS_PACKAGE_DEPENDS "python3-genpy, python3-std-msgs")
+endif()
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_GENERATOR DEB)
 include(CPack)
