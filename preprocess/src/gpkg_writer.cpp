@@ -243,6 +243,10 @@ void write_segment_rows(sqlite::Database& db, const std::string& db_path, const 
     create_table = query.column_text(0);
   }
   std::atomic<std::size_t> side_rows_done{0};
+  // Set when the first half fails (a full disk): the side thread then interrupts its own
+  // statement at its next progress call (every 4096 rows), so that the error reaches the user at
+  // once, not after the second half is encoded (seconds at country scale).
+  std::atomic<bool> stop_side{false};
   std::future<void> side = std::async(std::launch::async, [&] {
     sqlite::Database side_db(side_path,
                              SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOMUTEX);
@@ -252,7 +256,10 @@ void write_segment_rows(sqlite::Database& db, const std::string& db_path, const 
     side_db.exec("BEGIN");
     side_db.exec(create_table);
     insert_rows(side_db.handle(), schema::kSegmentsTable, segment_column_list(),
-                SegmentRows(graph, split, total), [&](std::size_t done) { side_rows_done = done; });
+                SegmentRows(graph, split, total), [&](std::size_t done) {
+                  side_rows_done = done;
+                  if (stop_side) sqlite3_interrupt(side_db.handle());
+                });
     side_db.exec("COMMIT");
   });
   try {
@@ -260,6 +267,7 @@ void write_segment_rows(sqlite::Database& db, const std::string& db_path, const 
                 SegmentRows(graph, 0, split),
                 [&](std::size_t done) { progress.update(done + side_rows_done, total); });
   } catch (...) {
+    stop_side = true;
     side.wait();  // it reads the graph and writes the side file: let it stop first
     std::remove(side_path.c_str());
     throw;

@@ -1,6 +1,6 @@
 // insert_rows(): rows pulled through a virtual table arrive exactly as bound inserts would
 // write them (types, NULLs, texts, blobs, order), twice on one connection, with progress, and a
-// RowSource's exception or a constraint violation fails the insert with its message.
+// RowSource's exception, an interrupt or a constraint violation fails the insert.
 #include <gtest/gtest.h>
 
 #include <stdexcept>
@@ -126,6 +126,21 @@ TEST(BulkInsert, SourceExceptionFailsTheInsertWithItsMessage) {
   } catch (const sqlite::sqlite_error& e) {
     EXPECT_NE(std::string(e.what()).find("row 7 broken"), std::string::npos) << e.what();
   }
+}
+
+// The GeoPackage writer stops its side half this way when the other half failed: the progress
+// call interrupts the connection's running insert, which fails before the source's end.
+TEST(BulkInsert, InterruptFromTheProgressCallStopsTheInsert) {
+  sqlite::Database db = table_db();
+  db.exec("BEGIN");
+  std::vector<std::size_t> reported;
+  EXPECT_THROW(rp::insert_rows(db.handle(), "t", "id, x, s, b", NumberedRows(20000),
+                               [&](std::size_t done) {
+                                 reported.push_back(done);
+                                 if (done == 8192) sqlite3_interrupt(db.handle());
+                               }),
+               sqlite::sqlite_error);
+  EXPECT_EQ(reported, (std::vector<std::size_t>{4096, 8192}));  // none after the interrupt
 }
 
 TEST(BulkInsert, ConstraintViolationFails) {
