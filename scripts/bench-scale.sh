@@ -10,7 +10,9 @@
 # --sight.enabled 0 and is compared with the build without the sight stage: the terrain stage's
 # cost alone (the sight stage dominates both builds and is timed by the default build).
 # BENCH_BUILD_ARGS: extra arguments for every roadcross-build run. BENCH_NO_DOCS=1: print the
-# table, leave docs/ alone.
+# table, leave docs/ alone. Another map: BENCH_MAP (an OSM file, default the Monaco extract),
+# BENCH_DEM_IN (its elevation files, space-separated; several are mosaicked with gdalbuildvrt)
+# and BENCH_NAME (docs/BENCH_NAME.csv and .png; default scale).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/bench-common.sh
@@ -21,6 +23,14 @@ make_tiled="$build_dir/tests/benchmarks/make_tiled_osm"
 for f in "$tool" "$make_tiled"; do [[ -x "$f" ]] || { echo "build $f first" >&2; exit 1; }; done
 work=${BENCH_WORK_DIR:-$(mktemp -d)}
 trap '[[ -z "${BENCH_WORK_DIR:-}" ]] && rm -rf "$work"' EXIT
+map=${BENCH_MAP:-maps/monaco/monaco.osm.pbf}
+name=${BENCH_NAME:-scale}
+read -r -a dem_files <<<"${BENCH_DEM_IN:-maps/monaco/N43E007.hgt}"
+dem_in=${dem_files[0]}
+if ((${#dem_files[@]} > 1)); then
+  dem_in="$work/dem_in.vrt"
+  gdalbuildvrt -q "$dem_in" "${dem_files[@]}"
+fi
 with_dem=0
 # no -q: an early exit of grep would fail the pipe under pipefail
 if [[ "${BENCH_DEM:-1}" != 0 ]] && "$tool" --help | grep -- '--elevation' >/dev/null; then with_dem=1; fi
@@ -43,7 +53,7 @@ print("#   " + sys.argv[2] + ": " + "; ".join("%s %.2f s %.0f MiB" % (s["stage"]
 echo "# $(machine_line)"
 echo "copies,pbf_bytes,osmium_s,osmium_kib,build_s,build_kib,build_dem_s,build_dem_kib,segments,no_sight_s,no_sight_kib" | tee "$work/scale.csv"
 for n in $sizes; do
-  "$make_tiled" maps/monaco/monaco.osm.pbf "$n" "$work/m$n.osm.pbf" maps/monaco/N43E007.hgt "$work/m$n.tif" >/dev/null
+  "$make_tiled" "$map" "$n" "$work/m$n.osm.pbf" "$dem_in" "$work/m$n.tif" >/dev/null
   read -r osmium_s osmium_kib < <(measure osmium tags-filter "$work/m$n.osm.pbf" w/highway -o "$work/f.osm.pbf" --overwrite)
   echo "# $n copies, load average before: $(cut -d' ' -f1-3 /proc/loadavg)" >&2
   # shellcheck disable=SC2086
@@ -66,24 +76,24 @@ for n in $sizes; do
   rm -f "$work/m$n.gpkg" "$work/m${n}dem.gpkg" "$work/m${n}ns.gpkg"
 done
 [[ -n ${BENCH_NO_DOCS:-} ]] && { cat "$work/scale.csv"; exit 0; }  # a comparison run: keep docs/
-cp "$work/scale.csv" docs/scale.csv
+cp "$work/scale.csv" "docs/$name.csv"
 if command -v gnuplot >/dev/null; then
   gnuplot <<GNUPLOT
 set terminal pngcairo size 900,420 font ",10"
-set output "docs/scale.png"
+set output "docs/$name.png"
 set datafile separator ","
 set key autotitle columnhead left top
 set multiplot layout 1,2
 set logscale xy
-set xlabel "copies of the Monaco extract"
+set xlabel "copies of $(basename "$map")"
 set ylabel "wall time, s"
 set grid
-plot "docs/scale.csv" using 1:5 with linespoints title "roadcross-build", \
+plot "docs/$name.csv" using 1:5 with linespoints title "roadcross-build", \
      "" using 1:10 with linespoints title "roadcross-build --sight.enabled 0", \
      "" using 1:3 with linespoints title "osmium tags-filter w/highway", \
      "" using 1:7 with linespoints title "roadcross-build --elevation --sight.enabled 0"
 set ylabel "peak RSS, MiB"
-plot "docs/scale.csv" using 1:(\$6/1024) with linespoints title "roadcross-build", \
+plot "docs/$name.csv" using 1:(\$6/1024) with linespoints title "roadcross-build", \
      "" using 1:(\$11/1024) with linespoints title "roadcross-build --sight.enabled 0", \
      "" using 1:(\$4/1024) with linespoints title "osmium tags-filter", \
      "" using 1:(\$8/1024) with linespoints title "roadcross-build --elevation --sight.enabled 0"
