@@ -177,9 +177,12 @@ Obstacles ObstacleReader::take_edges(const geo::UtmZone& zone, const PlanePoint&
   constexpr double kLongEdgeM = 1000.0;
   const double node_reach_m = reach_m + kLongEdgeM;
   // Every kept node is inside this box: the frame of the fixed-point vertices (throws, naming
-  // the extent, when it is too wide for them).
-  const VertexFrame frame = VertexFrame::covering({min.x - node_reach_m, min.y - node_reach_m},
-                                                  {max.x + node_reach_m, max.y + node_reach_m});
+  // the extent, when it is too wide for them). An empty box (no road) keeps no node.
+  const bool any_road = min.x <= max.x && min.y <= max.y;
+  const VertexFrame frame =
+      any_road ? VertexFrame::covering({min.x - node_reach_m, min.y - node_reach_m},
+                                       {max.x + node_reach_m, max.y + node_reach_m})
+               : VertexFrame();
   // Location -> UTM -> fixed point in place, kNoVertex when missing or far; on every core (the
   // projection is most of this stage's time). (lon, lat) as the node pass read them: the same
   // doubles as Location::lon() and lat() there. A node's other references (kReference, its
@@ -191,8 +194,9 @@ Obstacles ObstacleReader::take_edges(const geo::UtmZone& zone, const PlanePoint&
     geo::UtmPoint u;
     try {
       u = geo::wgs84_to_utm(l.lat(), l.lon(), zone);
-      kept = u.easting_m >= min.x - node_reach_m && u.easting_m <= max.x + node_reach_m &&
-             u.northing_m >= min.y - node_reach_m && u.northing_m <= max.y + node_reach_m;
+      kept = any_road && u.easting_m >= min.x - node_reach_m &&
+             u.easting_m <= max.x + node_reach_m && u.northing_m >= min.y - node_reach_m &&
+             u.northing_m <= max.y + node_reach_m;
     } catch (const std::invalid_argument&) {
       // Too far from the roads' UTM zone to project: far from every road as well.
     }
