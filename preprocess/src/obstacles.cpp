@@ -36,9 +36,11 @@ double parse_height_m(std::string_view text) noexcept {
 
 namespace {
 
-// Packed slots that hold no location (a valid location's x is within +-180e7).
-constexpr std::int32_t kMissing = std::numeric_limits<std::int32_t>::max();
+// Slots that hold no vertex: until take_edges() a slot holds a Location's (x, y) (|x| <= 180e7),
+// or (kReference, the slot of the node's first reference), or kNoVertex twice (not in the file);
+// take_edges() projects the Locations to fixed-point vertices (x >= 0) or kNoVertex (far).
 constexpr std::int32_t kReference = std::numeric_limits<std::int32_t>::min();
+constexpr std::int32_t kNoVertex = std::numeric_limits<std::int32_t>::min() + 1;
 
 /// A height from `height_key`, else `levels_key` times the level height; NaN when neither.
 double tagged_height_m(const osmium::TagList& tags, const char* height_key, const char* levels_key,
@@ -57,16 +59,6 @@ double tagged_height_m(const osmium::TagList& tags, const char* height_key, cons
 }
 
 }  // namespace
-
-void ObstacleReader::put_packed(std::size_t i, const Packed& p) {
-  std::memcpy(reinterpret_cast<std::byte*>(slots_.data()) + sizeof(Packed) * i, &p, sizeof p);
-}
-
-ObstacleReader::Packed ObstacleReader::packed(std::size_t i) const {
-  Packed p;
-  std::memcpy(&p, reinterpret_cast<const std::byte*>(slots_.data()) + sizeof(Packed) * i, sizeof p);
-  return p;
-}
 
 void ObstacleReader::way(const osmium::Way& way) {
   const osmium::TagList& tags = way.tags();
@@ -134,8 +126,8 @@ void ObstacleReader::ways_done() {
   // By id alone: the slots of one node all get the same location, in any order.
   std::sort(node_slots_.begin(), node_slots_.end(),
             [](const NodeSlot& x, const NodeSlot& y) { return x.id() < y.id(); });
-  slots_.resize(slots);  // untouched: only the packed first half is written
-  for (std::size_t i = 0; i < slots; ++i) put_packed(i, {kMissing, kMissing});
+  slots_.resize(slots);
+  std::fill(slots_.begin(), slots_.end(), FixedSlot{kNoVertex, kNoVertex});
   if (node_slots_.empty()) return;
   // Buckets of ids: at most 2^20, so the shift makes the id range fit.
   min_id_ = node_slots_.front().id();
@@ -170,9 +162,9 @@ void ObstacleReader::node(const osmium::Node& node) {
   if (!l.valid()) return;
   // The first reference holds the location, the others point to it (projected once).
   const std::uint32_t first = it->slot;
-  put_packed(first, {l.x(), l.y()});
+  slots_[first] = {l.x(), l.y()};
   for (++it; it != end && it->id() == node.id(); ++it) {
-    put_packed(it->slot, {kReference, std::bit_cast<std::int32_t>(first)});
+    slots_[it->slot] = {kReference, std::bit_cast<std::int32_t>(first)};
   }
 }
 
@@ -184,45 +176,42 @@ Obstacles ObstacleReader::take_edges(const geo::UtmZone& zone, const PlanePoint&
   // keeps both ends of long edges (a wall, a large hall) that reach the sight lines' area.
   constexpr double kLongEdgeM = 1000.0;
   const double node_reach_m = reach_m + kLongEdgeM;
-  // Unpacked backwards: slot i's 16 bytes (from byte 16 i) are at or after its own 8 packed
-  // bytes (8 i) and after those of every slot not yet unpacked (< i). (lon, lat) as the node
-  // pass read them: the same doubles as Location::lon() and lat() there.
-  for (std::size_t i = slots_.size(); i-- > 0;) {
-    const Packed p = packed(i);
-    RawPoint q{NAN, NAN};
-    if (p.x == kReference) {
-      q = {NAN, double(std::bit_cast<std::uint32_t>(p.y))};
-    } else if (p.x != kMissing) {
-      const osmium::Location l(p.x, p.y);
-      q = {l.lon(), l.lat()};
-    }
-    slots_[i] = q;
-  }
-  // (lon, lat) -> UTM in place, NaN when missing or far; on every core (the projection is most
-  // of this stage's time). A node's other references (NaN, its first slot) are copied after.
-  const auto project_one = [&](RawPoint& q) {
-    if (std::isnan(q.x)) return;
+  // Every kept node is inside this box: the frame of the fixed-point vertices (throws, naming
+  // the extent, when it is too wide for them). An empty box (no road) keeps no node.
+  const bool any_road = min.x <= max.x && min.y <= max.y;
+  const VertexFrame frame =
+      any_road ? VertexFrame::covering({min.x - node_reach_m, min.y - node_reach_m},
+                                       {max.x + node_reach_m, max.y + node_reach_m})
+               : VertexFrame();
+  // Location -> UTM -> fixed point in place, kNoVertex when missing or far; on every core (the
+  // projection is most of this stage's time). (lon, lat) as the node pass read them: the same
+  // doubles as Location::lon() and lat() there. A node's other references (kReference, its
+  // first slot) are copied after.
+  const auto project_one = [&](FixedSlot& q) {
+    if (q.x == kReference || q.x == kNoVertex) return;
+    const osmium::Location l(q.x, q.y);
     bool kept = false;
     geo::UtmPoint u;
     try {
-      u = geo::wgs84_to_utm(q.y, q.x, zone);
-      kept = u.easting_m >= min.x - node_reach_m && u.easting_m <= max.x + node_reach_m &&
-             u.northing_m >= min.y - node_reach_m && u.northing_m <= max.y + node_reach_m;
+      u = geo::wgs84_to_utm(l.lat(), l.lon(), zone);
+      kept = any_road && u.easting_m >= min.x - node_reach_m &&
+             u.easting_m <= max.x + node_reach_m && u.northing_m >= min.y - node_reach_m &&
+             u.northing_m <= max.y + node_reach_m;
     } catch (const std::invalid_argument&) {
       // Too far from the roads' UTM zone to project: far from every road as well.
     }
-    q = kept ? RawPoint{u.easting_m, u.northing_m} : RawPoint{NAN, NAN};
+    q = kept ? frame.encode({u.easting_m, u.northing_m}) : FixedSlot{kNoVertex, kNoVertex};
   };
   const auto project = [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) project_one(slots_[i]);
   };
   const auto copy_references = [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
-      const RawPoint q = slots_[i];
-      if (std::isnan(q.x) && !std::isnan(q.y)) slots_[i] = slots_[static_cast<std::size_t>(q.y)];
+      const FixedSlot q = slots_[i];
+      if (q.x == kReference) slots_[i] = slots_[std::bit_cast<std::uint32_t>(q.y)];
     }
   };
-  // Headers are (NaN, NaN) until the compaction writes them: both passes leave them.
+  // Headers are kNoVertex until the compaction writes them: both passes leave them.
   const std::size_t threads = std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1, 16);
   const std::size_t chunk = (slots_.size() + threads - 1) / threads;
   for (const auto& pass : {std::function<void(std::size_t, std::size_t)>(project),
@@ -236,7 +225,8 @@ Obstacles ObstacleReader::take_edges(const geo::UtmZone& zone, const PlanePoint&
     for (std::thread& t : pool) t.join();
   }
   // Only edges a sight line can meet: within reach of the roads' box.
-  const auto near = [&](const RawPoint& a, const RawPoint& b) {
+  const auto near = [&](FixedSlot p, FixedSlot q) {
+    const PlanePoint a = frame.decode(p), b = frame.decode(q);
     return std::max(a.x, b.x) >= min.x - reach_m && std::min(a.x, b.x) <= max.x + reach_m &&
            std::max(a.y, b.y) >= min.y - reach_m && std::min(a.y, b.y) <= max.y + reach_m;
   };
@@ -245,21 +235,20 @@ Obstacles ObstacleReader::take_edges(const geo::UtmZone& zone, const PlanePoint&
   // first way), unless a far edge between two kept ones splits a chain: then, if they would
   // overtake the next way, they go to `overflow`, appended at the end (which may then need a
   // larger array: only when nothing else was dropped).
-  std::vector<RawPoint> way_vertices;
+  std::vector<FixedSlot> way_vertices;
   ObstacleEdges::Slots overflow;
   std::vector<std::pair<std::size_t, std::size_t>> chains;  // [first, last] vertex, all kept
-  RawPoint* const base = slots_.data();
-  RawPoint* write = base;
+  FixedSlot* const base = slots_.data();
+  FixedSlot* write = base;
   for (std::size_t w = 0; w < ways_.size(); ++w) {
-    const RawPoint* first = base + ways_[w].first_slot + 1;
-    const RawPoint* end = base + end_slot(w);
+    const FixedSlot* first = base + ways_[w].first_slot + 1;
+    const FixedSlot* end = base + end_slot(w);
     way_vertices.assign(first, end);
     const std::size_t n = way_vertices.size();
     chains.clear();
     std::size_t needed = 0;
     for (std::size_t i = 1, chain_begin = 0; i <= n; ++i) {
-      const bool kept = i < n && !std::isnan(way_vertices[i - 1].x) &&
-                        !std::isnan(way_vertices[i].x) &&
+      const bool kept = i < n && way_vertices[i - 1].x >= 0 && way_vertices[i].x >= 0 &&
                         near(way_vertices[i - 1], way_vertices[i]);
       if (!kept) {
         if (i - 1 > chain_begin) {
@@ -272,7 +261,7 @@ Obstacles ObstacleReader::take_edges(const geo::UtmZone& zone, const PlanePoint&
     }
     const bool in_place = write + needed <= end;
     if (!in_place) overflow.resize(overflow.size() + needed);
-    RawPoint* to = in_place ? write : overflow.data() + overflow.size() - needed;
+    FixedSlot* to = in_place ? write : overflow.data() + overflow.size() - needed;
     for (const auto& [b, l] : chains) {
       to = ObstacleEdges::write_chain(to, ways_[w].bottom_m, ways_[w].top_m,
                                       way_vertices.data() + b, way_vertices.data() + l);
@@ -284,7 +273,7 @@ Obstacles ObstacleReader::take_edges(const geo::UtmZone& zone, const PlanePoint&
   // What was read is no longer needed: the edges are what the sight stage uses. (Not shrunk:
   // that would copy them; what the dropped far ways leave is at most what was read.)
   std::vector<Way>().swap(ways_);
-  out.edges = ObstacleEdges::adopt(std::move(slots_));
+  out.edges = ObstacleEdges::adopt(std::move(slots_), frame);
   slots_ = {};
   return out;
 }

@@ -5,11 +5,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <random>
 #include <set>
 #include <stdexcept>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -210,7 +213,7 @@ TEST(EdgeGrid, AgreesWithAPlainSetOfCellsPerEdge) {
 
 TEST(ObstacleEdges, ARingIsItsVerticesOnceAfterAHeader) {
   // A 10 m square with a band of 2-9 m: header, 4 corners, the first corner again (6 slots of
-  // 16 bytes for 4 edges, against 4 x 40 bytes as separate edges); then a wall of one edge.
+  // 8 bytes for 4 edges, against 4 x 40 bytes as separate edges); then a wall of one edge.
   rp::ObstacleEdges edges;
   edges.begin_run(2.0f, 9.0f);
   for (const PlanePoint& p : std::vector<PlanePoint>{{0, 0}, {10, 0}, {10, 10}, {0, 10}, {0, 0}})
@@ -236,6 +239,13 @@ TEST(ObstacleEdges, ARingIsItsVerticesOnceAfterAHeader) {
   EXPECT_EQ(wall.b.y, 30.0);
   EXPECT_EQ(wall.bottom_m, 0.0f);
   EXPECT_EQ(wall.top_m, 2.5f);
+  // The slots by hand (default frame: origin (0, 0), 1024 units a metre): the header holds
+  // 2.0f = 0x40000000 with the sign bit set, and 9.0f = 0x41100000; (10, 10) is 10240 units.
+  EXPECT_EQ(static_cast<std::uint32_t>(edges.slot(0).x), 0xC0000000u);
+  EXPECT_EQ(static_cast<std::uint32_t>(edges.slot(0).y), 0x41100000u);
+  EXPECT_EQ(edges.slot(3).x, 10240);
+  EXPECT_EQ(edges.slot(3).y, 10240);
+  EXPECT_EQ(edges.slot(8).y, 30 * 1024);
 }
 
 TEST(ObstacleEdges, LongChainsAreCutIntoRunsOfAtMost64Edges) {
@@ -243,10 +253,10 @@ TEST(ObstacleEdges, LongChainsAreCutIntoRunsOfAtMost64Edges) {
   // each after a header and starting at the last vertex of the one before: 130 + 2 + 2 * 2 =
   // 136 slots. Written vertex by vertex and as a chain, the same slots.
   std::vector<PlanePoint> vertices;
-  std::vector<rp::RawPoint> raw;
+  std::vector<rp::FixedSlot> raw;
   for (int x = 0; x <= 130; ++x) {
     vertices.push_back({double(x), 5.0});
-    raw.push_back({double(x), 5.0});
+    raw.push_back({x * 1024, 5 * 1024});  // in the default frame: 2^-10 m units from (0, 0)
   }
   rp::ObstacleEdges added;
   added.begin_run(0.0f, 1.5f);
@@ -263,10 +273,10 @@ TEST(ObstacleEdges, LongChainsAreCutIntoRunsOfAtMost64Edges) {
   EXPECT_EQ(added.top_m(134), 1.5f);  // the last edge, 129 -> 130, finds its header at 132
   EXPECT_EQ(added.a(134).x, 129.0);
   rp::ObstacleEdges::Slots written(136);
-  const rp::RawPoint* end =
+  const rp::FixedSlot* end =
       rp::ObstacleEdges::write_chain(written.data(), 0.0f, 1.5f, raw.data(), raw.data() + 130);
   EXPECT_EQ(end, written.data() + 136);
-  const rp::ObstacleEdges adopted = rp::ObstacleEdges::adopt(written);
+  const rp::ObstacleEdges adopted = rp::ObstacleEdges::adopt(written, rp::VertexFrame());
   for (std::size_t i = 0; i < 136; ++i) {
     ASSERT_EQ(adopted.is_edge(i), added.is_edge(i)) << i;
     if (!added.is_edge(i)) continue;
@@ -276,12 +286,13 @@ TEST(ObstacleEdges, LongChainsAreCutIntoRunsOfAtMost64Edges) {
     EXPECT_EQ(adopted.top_m(id), 1.5f);
   }
   // A run of 65 edges, or vertices before any header, are refused.
-  rp::ObstacleEdges::Slots too_long(67, rp::RawPoint{1.0, 1.0});
+  rp::ObstacleEdges::Slots too_long(67, rp::FixedSlot{1024, 1024});
   too_long[0] = rp::ObstacleEdges::header(0.0f, 1.0f);
-  EXPECT_THROW(rp::ObstacleEdges::adopt(too_long), std::logic_error);
+  EXPECT_THROW(rp::ObstacleEdges::adopt(too_long, rp::VertexFrame()), std::logic_error);
   too_long.pop_back();
-  EXPECT_NO_THROW(rp::ObstacleEdges::adopt(too_long));
-  EXPECT_THROW(rp::ObstacleEdges::adopt({{1.0, 1.0}, {2.0, 2.0}}), std::logic_error);
+  EXPECT_NO_THROW(rp::ObstacleEdges::adopt(too_long, rp::VertexFrame()));
+  EXPECT_THROW(rp::ObstacleEdges::adopt({{1024, 1024}, {2048, 2048}}, rp::VertexFrame()),
+               std::logic_error);
 }
 
 TEST(ObstacleEdges, SeparateEdgesJoinWhenOneStartsWhereTheLastEndsWithItsBand) {
@@ -626,4 +637,86 @@ TEST(FanClear, TriangleFastPathIsTheHull) {
   EXPECT_TRUE(same_points(fan.hull(), {{0, 0}, {5, 5}, {10, 10}, {5, 5}}));
   EXPECT_TRUE(fan.edge_clear({0, 2}, {3, 10}));    // beside the segment
   EXPECT_FALSE(fan.edge_clear({0, 10}, {10, 0}));  // across it
+}
+
+TEST(VertexFrame, AVertexIsReadBackAsTheExactDoubleOfItsNearestUnit) {
+  // A 10 km box: origin at the whole metres below its corner, 2^-10 m units. 123.4567 m from
+  // the origin is 126 419.66 units: 126 420, read back as 126420 / 1024 = 123.45703125 m.
+  const rp::VertexFrame frame =
+      rp::VertexFrame::covering({500000.3, 4800000.7}, {510000.0, 4810000.0});
+  EXPECT_EQ(frame.origin().x, 500000.0);
+  EXPECT_EQ(frame.origin().y, 4800000.0);
+  EXPECT_EQ(frame.unit_m(), 1.0 / 1024);
+  const rp::FixedSlot s = frame.encode({500123.4567, 4800001.0});
+  EXPECT_EQ(s.x, 126420);
+  EXPECT_EQ(s.y, 1024);
+  EXPECT_EQ(frame.decode(s).x, 500123.45703125);  // exact: no rounding in the decoding
+  EXPECT_EQ(frame.decode(s).y, 4800001.0);
+  // Random points: within half a unit, and encoding the decoded point gives the same slot.
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> x(500000.3, 510000.0), y(4800000.7, 4810000.0);
+  for (int k = 0; k < 10000; ++k) {
+    const PlanePoint p{x(rng), y(rng)};
+    const rp::FixedSlot q = frame.encode(p);
+    const PlanePoint back = frame.decode(q);
+    ASSERT_LE(std::abs(back.x - p.x), 0.5 / 1024 + 1e-9);
+    ASSERT_LE(std::abs(back.y - p.y), 0.5 / 1024 + 1e-9);
+    ASSERT_EQ(back.x, frame.origin().x + std::ldexp(double(q.x), -10));
+    const rp::FixedSlot again = frame.encode(back);
+    ASSERT_EQ(again.x, q.x);
+    ASSERT_EQ(again.y, q.y);
+  }
+  // Outside the frame: refused.
+  EXPECT_THROW(frame.encode({499999.0, 4800001.0}), std::out_of_range);
+  EXPECT_THROW(frame.encode({500001.0, 4800000.0 + 2200e3}), std::out_of_range);
+}
+
+TEST(VertexFrame, TheUnitIsTheFinestPowerOfTwoThatFitsTheExtent) {
+  // 2^31 - 1 units: 2 097.15 km at 2^-10 m, 4 194.3 km at 2^-9, 16 777.2 km at 2^-7.
+  EXPECT_EQ(rp::VertexFrame::covering({0, 0}, {2000e3, 10}).unit_m(), 0x1p-10);
+  EXPECT_EQ(rp::VertexFrame::covering({0, 0}, {10, 2100e3}).unit_m(), 0x1p-9);
+  EXPECT_EQ(rp::VertexFrame::covering({0, 0}, {16000e3, 10}).unit_m(), 0x1p-7);
+  try {
+    rp::VertexFrame::covering({100e3, 0}, {17100e3, 1000});
+    FAIL() << "no error for a 17 000 km extent";
+  } catch (const std::length_error& e) {
+    EXPECT_NE(std::string(e.what()).find("extent of 17000 km x 1 km"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(rp::VertexFrame::covering({0, 0}, {NAN, 1}), std::invalid_argument);
+}
+
+TEST(ObstacleEdges, AHeaderIsToldApartFromAVertexAndKeepsItsBandBitForBit) {
+  // x of a vertex is >= 0 (0: the origin); a header's is negative.
+  EXPECT_FALSE(rp::ObstacleEdges::is_header(rp::VertexFrame().encode({0.0, 0.0})));
+  EXPECT_TRUE(rp::ObstacleEdges::is_header(rp::ObstacleEdges::header(0.0f, 1.0f)));
+  const float bottoms[] = {0.0f, -0.0f, 2.5f, 1e-40f, std::numeric_limits<float>::max()};
+  const float tops[] = {3.0f, std::numeric_limits<float>::infinity(), 1e-30f, 7.25f, 0.1f};
+  for (const float bottom : bottoms) {
+    for (const float top : tops) {
+      rp::ObstacleEdges edges;
+      edges.begin_run(bottom, top);
+      edges.add_vertex({1.0, 2.0});
+      edges.add_vertex({3.0, 4.0});
+      ASSERT_TRUE(rp::ObstacleEdges::is_header(edges.slot(0)));
+      ASSERT_TRUE(edges.is_edge(1));
+      EXPECT_EQ(std::bit_cast<std::uint32_t>(edges.bottom_m(1)),
+                std::bit_cast<std::uint32_t>(bottom));
+      EXPECT_EQ(std::bit_cast<std::uint32_t>(edges.top_m(1)), std::bit_cast<std::uint32_t>(top));
+    }
+  }
+  EXPECT_THROW(rp::ObstacleEdges::header(-1.0f, 2.0f), std::invalid_argument);
+  EXPECT_THROW(rp::ObstacleEdges::header(NAN, 2.0f), std::invalid_argument);
+}
+
+TEST(ObstacleEdges, EdgesGivenAsDoublesAreStoredInTheFrameOfTheirEnds) {
+  // Ends 1.0001 m apart: origin (100, 200) (the whole metres below the lowest end), read back
+  // as the nearest 1/1024 m: 0.0001 m is 0.1 unit, rounded away.
+  const rp::ObstacleEdges edges{{{100.5, 200.25}, {101.5001, 200.25}, 0.0f, 3.0f}};
+  EXPECT_EQ(edges.frame().origin().x, 100.0);
+  EXPECT_EQ(edges.frame().origin().y, 200.0);
+  EXPECT_EQ(edges.a(1).x, 100.5);
+  EXPECT_EQ(edges.a(1).y, 200.25);
+  EXPECT_EQ(edges.b(1).x, 101.5);
+  EXPECT_EQ(edges.slot(2).x, 1536);  // 1.5 m
 }

@@ -481,3 +481,22 @@ TEST(SightObstacles, ReaderKeepsEachWaysChainsOfNearEdgesAsRuns) {
   expect_at(o.edges.b(85), 50, 60);
   EXPECT_EQ(o.edges.top_m(85), 2.0f);
 }
+
+TEST(SightObstacles, AnEmptyRoadBoxKeepsNoEdgeAndNeedsNoFrame) {
+  // take_edges with the box of no road (min above max, as the build's fold starts): no node is
+  // kept, and no fixed-point frame is made for the inverted box.
+  TempDir dir;
+  namespace t = roadcross::testing;
+  const std::string osm = t::osm_document(
+      node_at(1, -200, 0) + node_at(2, 0, 0) + node_at(11, -100, 10) + node_at(12, -10, 10) +
+      node_at(13, -10, 100) + t::osm_way(1, "1 2", "highway=residential") +
+      t::osm_way(10, "11 12 13 11", "building=yes"));
+  const rp::SightParameters p;
+  rp::ObstacleReader reader(p);
+  rp::Progress progress(false);
+  rp::read_road_network(dir.write("o.osm", osm), progress, &reader);
+  const rp::Obstacles o = reader.take_edges(kZone, {1e300, 1e300}, {-1e300, -1e300}, 100.0);
+  EXPECT_EQ(o.report.buildings, 1u);
+  EXPECT_EQ(o.report.edges, 0u);
+  EXPECT_EQ(o.edges.slots(), 0u);
+}

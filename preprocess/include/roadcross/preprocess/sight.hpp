@@ -53,7 +53,7 @@ struct ObstacleReport {
 };
 
 struct Obstacles {
-  ObstacleEdges edges;  ///< runs sorted by the tile and cell of their first vertex
+  ObstacleEdges edges;  ///< runs in the order of their ways in the file
   ObstacleReport report;
 };
 
@@ -67,9 +67,9 @@ double parse_height_m(std::string_view text) noexcept;
 /// before each way), filled in the node pass with the node's location (its first reference) or
 /// the slot of its first reference (the others: a node shared by two buildings, a ring's last
 /// node); the look-up is by id in a sorted table of 12 bytes a reference, freed after the pass.
-/// Until take_edges() a slot holds 8 bytes; take_edges() unpacks them to 16 in place, projects
-/// each node once and compacts the runs in place: the edges never exist twice, nor as 40-byte
-/// edges (issue 8).
+/// A slot is 8 bytes throughout: until take_edges() it holds a Location's two int32; take_edges()
+/// projects each node once to a fixed-point vertex in the same slot (VertexFrame) and compacts
+/// the runs in place: the edges never exist twice, nor as 40-byte edges (issue 8).
 class ObstacleReader final : public ExtraOsmReader {
  public:
   explicit ObstacleReader(const SightParameters& parameters) : p_(parameters) {}
@@ -113,16 +113,10 @@ class ObstacleReader final : public ExtraOsmReader {
   std::vector<std::uint32_t> bucket_begins_;
   std::int64_t min_id_ = 0;
   int id_shift_ = 0;
-  /// cut_slots_ free slots, then per way a header slot and per reference (lon, lat); or (NaN,
-  /// the slot of the node's first reference); or (NaN, NaN) when the node is not in the file.
-  /// Until take_edges() each slot is 8 bytes (Packed, in the first half of the memory; the
-  /// second half is allocated but never touched, so not resident), then unpacked in place.
+  /// cut_slots_ free slots, then per way a header slot and per reference a Location's (x, y);
+  /// or (kReference, the slot of the node's first reference); or kNoVertex twice when the node
+  /// is not in the file (obstacles.cpp). take_edges() turns them into ObstacleEdges' slots.
   ObstacleEdges::Slots slots_;
-  struct Packed {
-    std::int32_t x, y;  ///< a Location's; or (kReference, the first slot); or kMissing twice
-  };
-  void put_packed(std::size_t i, const Packed& p);
-  Packed packed(std::size_t i) const;
 };
 
 struct SightReport {
