@@ -251,10 +251,10 @@ ContextReport compute_way_context(RoadGraph& graph, const RoadNetwork& network,
     s.maxspeed_kmh = w.maxspeed_kmh;
     s.lanes = w.lanes;
     s.width_m = w.width_m;
-    s.context_defaulted = w.defaulted;
+    graph.set_context_defaulted(s, w.defaulted);
     report.way_scores[way_index] = {
-        context_score(w.maxspeed_kmh, w.lanes, w.width_m, s.highway, false, p),
-        context_score(w.maxspeed_kmh, w.lanes, w.width_m, s.highway, true, p)};
+        context_score(w.maxspeed_kmh, w.lanes, w.width_m, graph.highway(s), false, p),
+        context_score(w.maxspeed_kmh, w.lanes, w.width_m, graph.highway(s), true, p)};
   }
   return report;
 }

@@ -478,7 +478,8 @@ struct Context {
 void sight_of_segment(const Context& c, Segment& s, SightWork& work, Fan& fan) {
   const RoadPiece& piece = c.graph.pieces[s.piece_index];
   const std::vector<double>& cum = c.cumulative[s.piece_index];
-  const double pos_m = std::clamp(c.graph.offset_in_piece_m(s) + 0.5 * s.length_m, 0.0, cum.back());
+  const double pos_m =
+      std::clamp(c.graph.offset_in_piece_m(s) + 0.5 * c.graph.length_m(s), 0.0, cum.back());
   const Path ahead =
       follow_road(c.graph, c.incidences, c.cumulative, s.piece_index, pos_m, true, c.p.range_m);
   const Path behind =

@@ -22,14 +22,13 @@ constexpr double kPi = 3.14159265358979323846;
 
 struct GraphBuilder {
   rp::RoadGraph graph;
-  std::int64_t next_split = -1;
-
   /// Adds a piece from node `from` to `to` along `points`, cut into segments of <= max_m.
   void add_piece(std::int64_t from, std::int64_t to, std::vector<PlanePoint> points,
                  const std::string& highway = "residential", double max_m = 10.0) {
     rp::RoadPiece piece;
     piece.from_node_id = from;
     piece.to_node_id = to;
+    piece.highway = graph.text.intern_text(highway);
     piece.points = points;
     piece.length_m = rp::polyline_length_m(points);
     piece.first_segment = graph.segments.size();
@@ -47,19 +46,12 @@ struct GraphBuilder {
       return PlanePoint{points[j - 1].x + t * (points[j].x - points[j - 1].x),
                         points[j - 1].y + t * (points[j].y - points[j - 1].y)};
     };
-    std::int64_t node = from;
     for (std::size_t k = 0; k < count; ++k) {
       const double n = static_cast<double>(count);
       const double a = piece.length_m * static_cast<double>(k) / n,
                    b = piece.length_m * static_cast<double>(k + 1) / n;
       rp::Segment seg;
-      seg.id = static_cast<std::int64_t>(graph.segments.size()) + 1;
       seg.piece_index = static_cast<std::uint32_t>(graph.pieces.size());
-      seg.length_m = b - a;
-      seg.highway = graph.text.intern_text(highway);
-      seg.from_node_id = node;
-      seg.to_node_id = (k + 1 == count) ? to : next_split--;
-      node = seg.to_node_id;
       std::vector<PlanePoint>& line = graph.segment_points;
       seg.first_point = static_cast<std::uint32_t>(line.size());
       line.push_back(at(a));
@@ -261,7 +253,7 @@ TEST(Curvature, SplittingARoadIntoTwoWaysChangesNothing) {
     for (const rp::RoadPiece& piece : g.pieces) {
       for (std::size_t k = 0; k < piece.segment_count; ++k) {
         const rp::Segment& s = g.segments[piece.first_segment + k];
-        out.emplace_back(base + g.offset_in_piece_m(s) + s.length_m / 2, *s.radius_m,
+        out.emplace_back(base + g.offset_in_piece_m(s) + g.length_m(s) / 2, *s.radius_m,
                          *s.curvature_level, *s.curvature_cost);
       }
       base += piece.length_m;
