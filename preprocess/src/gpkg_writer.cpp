@@ -175,11 +175,11 @@ class SegmentRows final : public RowSource {
       case 22:
         return result(out, s.elevation_cost);
       case 23:
-        return result(out, s.maxspeed_kmh);
+        return result(out, graph_.maxspeed_kmh(s));
       case 24:
-        return result(out, s.lanes);
+        return result(out, graph_.lanes(s));
       case 25:
-        return result(out, s.width_m);
+        return result(out, graph_.width_m(s));
       case 26:
         return result(out, s.context_score);
       case 27:

@@ -102,9 +102,9 @@ TEST(ContextStage, EveryTagFormGivesTheHandDerivedValues) {
     SCOPED_TRACE("way " + std::to_string(e.way));
     const rp::Segment& s = first_segment_of(e.way);
     // Segments store these as floats (7 digits): 30 mph = 48.28032 km/h reads 48.280319.
-    EXPECT_NEAR(*s.maxspeed_kmh, e.maxspeed_kmh, 1e-5);
-    EXPECT_EQ(*s.lanes, e.lanes);
-    EXPECT_NEAR(*s.width_m, e.width_m, 1e-5);
+    EXPECT_NEAR(*built().graph.maxspeed_kmh(s), e.maxspeed_kmh, 1e-5);
+    EXPECT_EQ(*built().graph.lanes(s), e.lanes);
+    EXPECT_NEAR(*built().graph.width_m(s), e.width_m, 1e-5);
     EXPECT_EQ(*s.context_score, e.context);
     const std::string* defaulted = built().graph.context_defaulted(s);
     EXPECT_EQ(defaulted ? *defaulted : std::string(), e.defaulted);

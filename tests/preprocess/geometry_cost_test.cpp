@@ -139,7 +139,7 @@ TEST_P(ArcRadius, SegmentsOnTheArcGetItsRadius) {
     ASSERT_TRUE(s.radius_m.has_value());
     // The segments at the two dead ends see only half a triangle; the rest must be within 10 %.
     const double from_start = b.graph.offset_in_piece_m(s),
-                 to_end = b.graph.pieces[0].length_m - from_start - s.length_m;
+                 to_end = b.graph.pieces[0].length_m - from_start - b.graph.length_m(s);
     if (from_start < spacing + p.curvature_baseline_m || to_end < spacing + p.curvature_baseline_m)
       continue;
     EXPECT_NEAR(*s.radius_m, radius, 0.10 * radius) << "segment at " << from_start << " m";

@@ -67,10 +67,11 @@ class LandformLabel {
 /// has tens of millions (7.39 M at 200x Monaco, where each byte is 7 MiB of the peak). What the
 /// segment's piece or its place in the graph determines is derived rather than stored, through
 /// RoadGraph's accessors: its id (index + 1), its way's OSM id, highway and name (per piece),
-/// its end node ids and its length (from its place in its piece); the two note texts are one
+/// its end node ids and its length (from its place in its piece), its way's speed limit, lanes
+/// and width (per piece, set by the context stage); the two note texts are one
 /// index into RoadGraph::notes. Terms are Maybe<> numbers, reasons a bit set, the line's points
 /// in RoadGraph::segment_points; fields ordered by size, so that there is no padding (4-byte
-/// alignment: nothing in it is 8 bytes). 272 bytes, then 160, now 88 (static_assert below).
+/// alignment: nothing in it is 8 bytes). 272 bytes, then 160, now 76 (static_assert below).
 struct Segment {
   std::uint32_t piece_index = 0;  ///< index into RoadGraph::pieces (the way: its way_index)
   /// The line: RoadGraph::segment_points[first_point, first_point + point_count), UTM metres,
@@ -82,10 +83,7 @@ struct Segment {
   MaybeFloat radius_m;
   // Terrain.
   MaybeFloat elevation_m, slope_deg, grade_percent, tpi_small_m, tpi_large_m;
-  // Context.
-  MaybeFloat maxspeed_kmh;
-  MaybeInt lanes;
-  MaybeFloat width_m;
+  // Context (the way's speed, lanes and width are its piece's: RoadPiece).
   MaybeInt context_score;  ///< an int: operator overrides add to it without bound
   MaybeFloat crossing_distance_m;
   // Sight distance (forward / backward: looking along / against the way's direction).
@@ -112,10 +110,10 @@ struct Segment {
   bool override_no_crossing : 1 = false;     ///< an operator override forbids crossing here
   bool override_force_suitable : 1 = false;  ///< an operator override declares it suitable
 };
-// A regression guard: the segment table is most of the build's peak memory. 88 bytes: the two
-// 4-byte indices (8), 14 float terms and 2 int terms (64), the notes index (4), the reasons and
-// the point count (2 + 2), six 1-byte costs, the landform and the flags (8).
-static_assert(sizeof(Segment) == 88, "Segment changed size: every byte costs ~7 MiB at 200x");
+// A regression guard: the segment table is most of the build's peak memory. 76 bytes: the two
+// 4-byte indices (8), 12 float terms and the context score (52), the notes index (4), the
+// reasons and the point count (2 + 2), six 1-byte costs, the landform and the flags (8).
+static_assert(sizeof(Segment) == 76, "Segment changed size: every byte costs ~7 MiB at 200x");
 static_assert(alignof(Segment) == 4, "an 8-byte field in Segment would pad it to 8-byte steps");
 
 /// A segment's two note texts (interned in RoadGraph::text, or none).
@@ -163,8 +161,12 @@ struct RoadPiece {
   std::int64_t to_node_id = 0;
   // The way's columns, kept per piece (~1 piece for 13 segments) rather than per segment.
   std::int64_t osm_way_id = 0;
-  InternedText highway;            ///< highway=* value, interned in RoadGraph::text
-  InternedText name;               ///< the way's name, interned in RoadGraph::text (empty: none)
+  InternedText highway;  ///< highway=* value, interned in RoadGraph::text
+  InternedText name;     ///< the way's name, interned in RoadGraph::text (empty: none)
+  // The way's context (set by the context stage; read through RoadGraph for a segment).
+  MaybeFloat maxspeed_kmh;  ///< km/h, tagged or the country's implicit limit
+  MaybeInt lanes;
+  MaybeFloat width_m;              ///< carriageway width, metres
   std::vector<PlanePoint> points;  ///< the OSM vertices of the piece, UTM metres
   /// OSM node id of each vertex in `points`: for the crossings search of the context stage,
   /// emptied after it (RoadGraph::free_piece_node_ids).
@@ -259,6 +261,17 @@ struct RoadGraph {
   }
   InternedText name(const Segment& segment) const noexcept {
     return pieces[segment.piece_index].name;
+  }
+
+  // The way's context, from the segment's piece.
+  MaybeFloat maxspeed_kmh(const Segment& segment) const noexcept {
+    return pieces[segment.piece_index].maxspeed_kmh;
+  }
+  MaybeInt lanes(const Segment& segment) const noexcept {
+    return pieces[segment.piece_index].lanes;
+  }
+  MaybeFloat width_m(const Segment& segment) const noexcept {
+    return pieces[segment.piece_index].width_m;
   }
 
   // The segment's notes (interned in `text`, or nullptr for none).
