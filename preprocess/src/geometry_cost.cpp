@@ -214,9 +214,9 @@ void assign_curvature_costs(RoadGraph& graph, const Stroke& stroke, const Geomet
 }
 
 void compute_geometry_costs(RoadGraph& graph, const GeometryParameters& p) {
+  for (RoadPiece& piece : graph.pieces) piece.class_cost = class_cost(piece.highway, p);
   for (Segment& s : graph.segments) {
     const std::string_view highway = graph.highway(s);
-    s.class_cost = class_cost(highway, p);
     const std::string_view base = highway.substr(0, highway.find("_link"));
     if (base == "motorway" || base == "trunk") s.reasons.add("NOT_CROSSABLE_CLASS");
     if (s.tunnel) s.reasons.add("TUNNEL");

@@ -151,7 +151,7 @@ class SegmentRows final : public RowSource {
       case 10:
         return result(out, s.bridge);
       case 11:
-        return result(out, s.class_cost);
+        return result(out, graph_.class_cost(s));
       case 12:
         return result(out, s.junction_distance_m);
       case 13:
@@ -195,7 +195,7 @@ class SegmentRows final : public RowSource {
       case 32:
         return result(out, s.rank);
       case 33:
-        return result(out, s.score);
+        return result(out, s.score());
       case 34: {
         const std::string reasons = s.reasons.joined(',');
         return sqlite3_result_text(out, reasons.data(), static_cast<int>(reasons.size()),

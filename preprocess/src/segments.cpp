@@ -180,15 +180,13 @@ void cut_piece(RoadGraph& graph, std::size_t piece_index, const RoadWay& way, do
     const bool last = (k + 1 == count);
     const PlanePoint to_point = last ? pts.back() : point_at(pts, cumulative, end_m, edge);
     line.push_back(to_point);
-    const std::size_t point_count = line.size() - first_point;
-    if (line.size() > std::numeric_limits<std::uint32_t>::max() ||
-        point_count > std::numeric_limits<std::uint16_t>::max()) {
+    if (line.size() > std::numeric_limits<std::uint32_t>::max()) {
       throw std::length_error("OSM way " + std::to_string(way.osm_id) +
-                              ": more than 65 535 points in one segment or 4 294 967 295 in "
-                              "all: segment line indices are 16/32-bit");
+                              ": more than 4 294 967 295 segment points in all: segment line "
+                              "indices are 32-bit");
     }
+    // The point count is derived (RoadGraph::line): the line ends where the next one starts.
     segment.first_point = static_cast<std::uint32_t>(first_point);
-    segment.point_count = static_cast<std::uint16_t>(point_count);
     from_point = to_point;
     graph.segments.push_back(std::move(segment));
   }

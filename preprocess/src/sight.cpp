@@ -564,7 +564,6 @@ void apply_sight_rank_penalty(RoadGraph& graph, const SightParameters& p) {
   for (Segment& s : graph.segments) {
     if (!s.rank || !s.reasons.contains("LIMITED_VISIBILITY")) continue;
     s.rank = std::min(14, *s.rank + static_cast<int>(p.rank_penalty));
-    s.score = 15 - *s.rank;
   }
 }
 

@@ -53,13 +53,14 @@ struct GraphBuilder {
       rp::Segment seg;
       seg.piece_index = static_cast<std::uint32_t>(graph.pieces.size());
       std::vector<PlanePoint>& line = graph.segment_points;
-      seg.first_point = static_cast<std::uint32_t>(line.size());
-      line.push_back(at(a));
+      // As the segmenter stores them: a segment starts on the point the previous segment of
+      // its piece ends on (RoadGraph::line derives the point count from that).
+      if (k == 0) line.push_back(at(a));
+      seg.first_point = static_cast<std::uint32_t>(line.size() - 1);
       for (std::size_t i = 1; i + 1 < points.size(); ++i) {
         if (s[i] > a && s[i] < b) line.push_back(points[i]);
       }
       line.push_back(k + 1 == count ? points.back() : at(b));
-      seg.point_count = static_cast<std::uint16_t>(line.size() - seg.first_point);
       graph.segments.push_back(seg);
     }
     ++graph.degree[from];
@@ -458,12 +459,12 @@ TEST(Rank, BothEndsOccurForRealInputs) {
   rp::compute_geometry_costs(b.graph, {});
   rp::compute_ranks(b.graph, {});
   EXPECT_EQ(*b.graph.segments[20].rank, 0);
-  EXPECT_EQ(*b.graph.segments[20].score, 15);
+  EXPECT_EQ(*b.graph.segments[20].score(), 15);
   const rp::Segment& at_junction = b.graph.segments[40];
   EXPECT_EQ(*at_junction.curvature_level, 5);
   EXPECT_EQ(*at_junction.curvature_cost, 14);  // floor(30) clamped
   EXPECT_EQ(*at_junction.rank, 14);
-  EXPECT_EQ(*at_junction.score, 1);
+  EXPECT_EQ(*at_junction.score(), 1);
 }
 
 TEST(Parameters, ValidationNamesTheParameter) {

@@ -299,7 +299,9 @@ TEST(OsmTags, StructuresClassesAndTheCanonicalReasonOrder) {
     id += 2;
   }
   const rp::RoadGraph g = build(body);
-  const auto first = [&](std::int64_t way) { return *segments_of(g, way).at(0); };
+  const auto first = [&](std::int64_t way) -> const rp::Segment& {
+    return *segments_of(g, way).at(0);
+  };
   EXPECT_TRUE(first(1).tunnel);
   EXPECT_EQ(first(1).reasons.list(), std::vector<std::string>{"TUNNEL"});
   EXPECT_TRUE(first(2).tunnel);  // covered=yes is a tunnel for a robot: no view of traffic
@@ -308,13 +310,13 @@ TEST(OsmTags, StructuresClassesAndTheCanonicalReasonOrder) {
   EXPECT_TRUE(first(3).reasons.empty());
   // Forbidding reasons first: class, then structure.
   EXPECT_EQ(first(4).reasons.list(), (std::vector<std::string>{"NOT_CROSSABLE_CLASS", "TUNNEL"}));
-  EXPECT_EQ(*first(4).class_cost, 5);
+  EXPECT_EQ(*g.class_cost(first(4)), 5);
   EXPECT_TRUE(segments_of(g, 5).empty());  // a footway is not a road
   EXPECT_FALSE(first(6).tunnel);
-  EXPECT_EQ(*first(6).class_cost, 1);
+  EXPECT_EQ(*g.class_cost(first(6)), 1);
   // Straight, no junction, unclassified: rank floor(15 * (70 * 0/14 + 5 * 1/5) / 75) = 0.
   EXPECT_EQ(*first(6).rank, 0);
-  EXPECT_EQ(*first(6).score, 15);
+  EXPECT_EQ(*first(6).score(), 15);
 }
 
 }  // namespace

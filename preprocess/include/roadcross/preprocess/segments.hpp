@@ -66,19 +66,19 @@ class LandformLabel {
 /// One short road segment and every cost term the stages fill in. Kept compact: a country
 /// has tens of millions (7.39 M at 200x Monaco, where each byte is 7 MiB of the peak). What the
 /// segment's piece or its place in the graph determines is derived rather than stored, through
-/// RoadGraph's accessors: its id (index + 1), its way's OSM id, highway and name (per piece),
-/// its end node ids and its length (from its place in its piece), its way's speed limit, lanes
-/// and width (per piece, set by the context stage); the two note texts are one
-/// index into RoadGraph::notes. Terms are Maybe<> numbers, reasons a bit set, the line's points
-/// in RoadGraph::segment_points; fields ordered by size, so that there is no padding (4-byte
-/// alignment: nothing in it is 8 bytes). 272 bytes, then 160, now 76 (static_assert below).
+/// RoadGraph's accessors: its id (index + 1), its way's OSM id, highway, name, class cost,
+/// speed limit, lanes and width (per piece), its end node ids, its length and its line's
+/// point count (from its place in its piece), its score (from its rank); the two note texts
+/// are one index into RoadGraph::notes. Terms are Maybe<> numbers, reasons a bit set, the
+/// line's points in RoadGraph::segment_points; fields ordered by size, so that there is no
+/// padding (4-byte alignment: nothing in it is 8 bytes). 272 bytes, then 160, now 72.
 struct Segment {
   std::uint32_t piece_index = 0;  ///< index into RoadGraph::pieces (the way: its way_index)
-  /// The line: RoadGraph::segment_points[first_point, first_point + point_count), UTM metres,
-  /// >= 2 points (RoadGraph::line() gives it as a span).
+  /// The line's first point in RoadGraph::segment_points (UTM metres; RoadGraph::line() gives
+  /// the line, >= 2 points, as a span).
   std::uint32_t first_point = 0;
 
-  // Geometry cost.
+  // Geometry cost (the class cost is the way's: RoadPiece).
   MaybeFloat junction_distance_m;
   MaybeFloat radius_m;
   // Terrain.
@@ -93,27 +93,27 @@ struct Segment {
   std::uint32_t notes = 0;
 
   ReasonSet reasons;  ///< 2 bytes
-  std::uint16_t point_count = 0;
   // The 1-byte fields last (no padding between them and the 2- and 4-byte ones).
-  MaybeSmallInt class_cost;       ///< geometry: 0..10 (the class cost parameters' range)
   MaybeSmallInt curvature_level;  ///< geometry: 0..5
   MaybeSmallInt curvature_cost;   ///< geometry: 0..14 (clamped)
   MaybeSmallInt elevation_cost;   ///< terrain: 0..9 (clamped)
   MaybeSmallInt rank;             ///< result: 0..14 (clamped)
-  MaybeSmallInt score;            ///< result: 15 - rank
   LandformLabel landform;         ///< terrain: the landform class or structure, or none
-  // The way's flags, repeated here (1 byte for the five) because the terrain stage reads them
-  // with only the segment at hand.
+  // The way's flags, repeated here (1 byte for the five) because the terrain and sight stages
+  // read them with only the segment at hand.
   bool oneway : 1 = false;
   bool tunnel : 1 = false;
   bool bridge : 1 = false;
   bool override_no_crossing : 1 = false;     ///< an operator override forbids crossing here
   bool override_force_suitable : 1 = false;  ///< an operator override declares it suitable
+
+  /// The result's score, 15 - rank (none before the ranks are computed).
+  MaybeSmallInt score() const noexcept { return rank ? MaybeSmallInt(15 - *rank) : rank; }
 };
-// A regression guard: the segment table is most of the build's peak memory. 76 bytes: the two
-// 4-byte indices (8), 12 float terms and the context score (52), the notes index (4), the
-// reasons and the point count (2 + 2), six 1-byte costs, the landform and the flags (8).
-static_assert(sizeof(Segment) == 76, "Segment changed size: every byte costs ~7 MiB at 200x");
+// A regression guard: the segment table is most of the build's peak memory. 72 bytes, no
+// padding: the piece and first-point indices (8), 12 float terms and the context score (52),
+// the notes index (4), the reasons (2), four 1-byte costs, the landform and the flags (6).
+static_assert(sizeof(Segment) == 72, "Segment changed size: every byte costs ~7 MiB at 200x");
 static_assert(alignof(Segment) == 4, "an 8-byte field in Segment would pad it to 8-byte steps");
 
 /// A segment's two note texts (interned in RoadGraph::text, or none).
@@ -161,8 +161,9 @@ struct RoadPiece {
   std::int64_t to_node_id = 0;
   // The way's columns, kept per piece (~1 piece for 13 segments) rather than per segment.
   std::int64_t osm_way_id = 0;
-  InternedText highway;  ///< highway=* value, interned in RoadGraph::text
-  InternedText name;     ///< the way's name, interned in RoadGraph::text (empty: none)
+  InternedText highway;      ///< highway=* value, interned in RoadGraph::text
+  InternedText name;         ///< the way's name, interned in RoadGraph::text (empty: none)
+  MaybeSmallInt class_cost;  ///< 0..10: from the highway (set by the geometry stage)
   // The way's context (set by the context stage; read through RoadGraph for a segment).
   MaybeFloat maxspeed_kmh;  ///< km/h, tagged or the country's implicit limit
   MaybeInt lanes;
@@ -263,6 +264,10 @@ struct RoadGraph {
     return pieces[segment.piece_index].name;
   }
 
+  MaybeSmallInt class_cost(const Segment& segment) const noexcept {
+    return pieces[segment.piece_index].class_cost;
+  }
+
   // The way's context, from the segment's piece.
   MaybeFloat maxspeed_kmh(const Segment& segment) const noexcept {
     return pieces[segment.piece_index].maxspeed_kmh;
@@ -298,9 +303,18 @@ struct RoadGraph {
     for (RoadPiece& piece : pieces) std::vector<std::int64_t>().swap(piece.node_ids);
   }
 
-  /// A segment's line (UTM metres, >= 2 points; what geometry functions take).
+  /// A segment's line (UTM metres, >= 2 points; what geometry functions take). It ends where
+  /// the next segment's starts: on that point itself within a piece (shared), just before it
+  /// at a piece's end (a piece's first segment starts on a point of its own), at the end of
+  /// segment_points for the last segment.
   std::span<const PlanePoint> line(const Segment& segment) const noexcept {
-    return {segment_points.data() + segment.first_point, segment.point_count};
+    const std::size_t next = index_of(segment) + 1;
+    std::size_t end = segment_points.size();
+    if (next < segments.size()) {
+      end = segments[next].first_point;
+      if (segments[next].piece_index == segment.piece_index) ++end;
+    }
+    return {segment_points.data() + segment.first_point, end - segment.first_point};
   }
 
  private:
