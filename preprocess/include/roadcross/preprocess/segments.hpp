@@ -263,7 +263,7 @@ struct RoadGraph {
   InternedText name(const Segment& segment) const noexcept {
     return pieces[segment.piece_index].name;
   }
-
+  /// The way's class cost (set by the geometry stage).
   MaybeSmallInt class_cost(const Segment& segment) const noexcept {
     return pieces[segment.piece_index].class_cost;
   }
