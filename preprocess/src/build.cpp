@@ -181,6 +181,8 @@ BuildSummary run_build(const BuildOptions& options) {
   progress.finish_stage(std::to_string(context.crossings.size()) + " crossings");
   const std::size_t road_ways = network.ways.size();
   network = RoadNetwork{};
+  // The crossings search above was the last reader of the pieces' node ids.
+  graph.free_piece_node_ids();
   return_freed_memory();
 
   // The segments' spatial index needs only their lines, which are final from here on: it is
@@ -289,7 +291,7 @@ BuildSummary run_build(const BuildOptions& options) {
   summary.pieces = graph.pieces.size();
   summary.segments = graph.segments.size();
   summary.junctions = junctions;
-  for (const Segment& s : graph.segments) summary.total_length_m += s.length_m;
+  for (const Segment& s : graph.segments) summary.total_length_m += graph.length_m(s);
   summary.missing_node_refs = graph.dropped_node_refs;
   summary.crossings = context.crossings.size();
   summary.notes = context.summary_lines();

@@ -245,16 +245,19 @@ ContextReport compute_way_context(RoadGraph& graph, const RoadNetwork& network,
   // whether a crossing is near: both scores are kept per way, and finish_context picks one
   // once the crossing distances are known (their search runs after the network is freed).
   report.way_scores.resize(network.ways.size());
+  for (RoadPiece& piece : graph.pieces) {
+    const SegmentContext& w = ways[piece.way_index];
+    piece.maxspeed_kmh = w.maxspeed_kmh;
+    piece.lanes = w.lanes;
+    piece.width_m = w.width_m;
+  }
   for (Segment& s : graph.segments) {
     const std::size_t way_index = graph.pieces[s.piece_index].way_index;
     const SegmentContext& w = ways[way_index];
-    s.maxspeed_kmh = w.maxspeed_kmh;
-    s.lanes = w.lanes;
-    s.width_m = w.width_m;
-    s.context_defaulted = w.defaulted;
+    graph.set_context_defaulted(s, w.defaulted);
     report.way_scores[way_index] = {
-        context_score(w.maxspeed_kmh, w.lanes, w.width_m, s.highway, false, p),
-        context_score(w.maxspeed_kmh, w.lanes, w.width_m, s.highway, true, p)};
+        context_score(w.maxspeed_kmh, w.lanes, w.width_m, graph.highway(s), false, p),
+        context_score(w.maxspeed_kmh, w.lanes, w.width_m, graph.highway(s), true, p)};
   }
   return report;
 }

@@ -77,7 +77,7 @@ std::int64_t segment_at(const RoadGraph& graph, const RoadPiece& piece, double o
       index = piece.first_segment + k;
     }
   }
-  return graph.segments[index].id;
+  return RoadGraph::id_at(index);
 }
 
 /// A crossing at the first place of a node; the segment is the lowest id touching it.
@@ -363,7 +363,7 @@ void assign_crossing_distances(RoadGraph& graph, const std::vector<Crossing>& cr
     for (std::size_t k = 0; k < piece.segment_count; ++k) {
       Segment& s = graph.segments[piece.first_segment + k];
       // From the midpoint, as junction_distance_m: where a robot crossing "here" stands.
-      const double mid = graph.offset_in_piece_m(s) + 0.5 * s.length_m;
+      const double mid = graph.offset_in_piece_m(s) + 0.5 * graph.length_m(s);
       double d =
           std::min(mid + at(piece.from_node_id), piece.length_m - mid + at(piece.to_node_id));
       if (own != on_piece.end()) {

@@ -147,7 +147,7 @@ void assign_junction_distances(RoadGraph& graph, const GeometryParameters& p) {
     for (std::size_t k = 0; k < piece.segment_count; ++k) {
       Segment& s = graph.segments[piece.first_segment + k];
       // Measured from the segment's midpoint: where a robot crossing "at this segment" stands.
-      const double mid = graph.offset_in_piece_m(s) + 0.5 * s.length_m;
+      const double mid = graph.offset_in_piece_m(s) + 0.5 * graph.length_m(s);
       const double d = std::min(mid + from_end, piece.length_m - mid + to_end);
       if (std::isfinite(d)) {
         s.junction_distance_m = d;
@@ -188,7 +188,8 @@ void assign_radii(RoadGraph& graph, const Stroke& stroke, const GeometryParamete
     Segment& s = graph.segments[ss.segment];
     s.radius_m = radius;
     s.curvature_level = curvature_level(
-        radius, is_junction(graph, s.from_node_id) || is_junction(graph, s.to_node_id), p);
+        radius,
+        is_junction(graph, graph.from_node_id(s)) || is_junction(graph, graph.to_node_id(s)), p);
     if (radius < p.sharp_bend_radius_m) s.reasons.add("SHARP_BEND");
   }
 }
@@ -213,9 +214,10 @@ void assign_curvature_costs(RoadGraph& graph, const Stroke& stroke, const Geomet
 }
 
 void compute_geometry_costs(RoadGraph& graph, const GeometryParameters& p) {
+  for (RoadPiece& piece : graph.pieces) piece.class_cost = class_cost(piece.highway, p);
   for (Segment& s : graph.segments) {
-    s.class_cost = class_cost(s.highway, p);
-    const std::string_view base = s.highway.view().substr(0, s.highway.view().find("_link"));
+    const std::string_view highway = graph.highway(s);
+    const std::string_view base = highway.substr(0, highway.find("_link"));
     if (base == "motorway" || base == "trunk") s.reasons.add("NOT_CROSSABLE_CLASS");
     if (s.tunnel) s.reasons.add("TUNNEL");
   }

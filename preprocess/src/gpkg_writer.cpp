@@ -120,27 +120,30 @@ class SegmentRows final : public RowSource {
   int column_count() const override { return kColumns; }
 
   void column(std::size_t row, int column, sqlite3_context* out) const override {
-    const Segment& s = graph_.segments[first_ + row];
+    const std::size_t index = first_ + row;
+    const Segment& s = graph_.segments[index];
     switch (column) {
       case 0:
-        return sqlite3_result_int64(out, s.id);
+        return sqlite3_result_int64(out, RoadGraph::id_at(index));
       case 1: {
         const std::vector<std::uint8_t> blob = schema::encode_linestring(graph_.line(s), srs_id_);
         return sqlite3_result_blob(out, blob.data(), static_cast<int>(blob.size()),
                                    SQLITE_TRANSIENT);
       }
       case 2:
-        return sqlite3_result_int64(out, s.osm_way_id);
+        return sqlite3_result_int64(out, graph_.osm_way_id(s));
       case 3:
-        return result_lasting_text(out, s.highway);
-      case 4:
-        return s.name.empty() ? void() : result_lasting_text(out, s.name);
+        return result_lasting_text(out, graph_.highway(s));
+      case 4: {
+        const InternedText name = graph_.name(s);
+        return name.empty() ? void() : result_lasting_text(out, name);
+      }
       case 5:
-        return sqlite3_result_double(out, s.length_m);
+        return sqlite3_result_double(out, graph_.length_m(s));
       case 6:
-        return sqlite3_result_int64(out, s.from_node_id);
+        return sqlite3_result_int64(out, graph_.from_node_id(s));
       case 7:
-        return sqlite3_result_int64(out, s.to_node_id);
+        return sqlite3_result_int64(out, graph_.to_node_id(s));
       case 8:
         return result(out, s.oneway);
       case 9:
@@ -148,7 +151,7 @@ class SegmentRows final : public RowSource {
       case 10:
         return result(out, s.bridge);
       case 11:
-        return result(out, s.class_cost);
+        return result(out, graph_.class_cost(s));
       case 12:
         return result(out, s.junction_distance_m);
       case 13:
@@ -172,19 +175,19 @@ class SegmentRows final : public RowSource {
       case 22:
         return result(out, s.elevation_cost);
       case 23:
-        return result(out, s.maxspeed_kmh);
+        return result(out, graph_.maxspeed_kmh(s));
       case 24:
-        return result(out, s.lanes);
+        return result(out, graph_.lanes(s));
       case 25:
-        return result(out, s.width_m);
+        return result(out, graph_.width_m(s));
       case 26:
         return result(out, s.context_score);
       case 27:
         return result(out, s.crossing_distance_m);
       case 28:
-        return result_lasting_text(out, s.context_defaulted);
+        return result_lasting_text(out, graph_.context_defaulted(s));
       case 29:
-        return result_lasting_text(out, s.override_note);
+        return result_lasting_text(out, graph_.override_note(s));
       case 30:
         return result(out, s.override_no_crossing);
       case 31:
@@ -192,7 +195,7 @@ class SegmentRows final : public RowSource {
       case 32:
         return result(out, s.rank);
       case 33:
-        return result(out, s.score);
+        return result(out, s.score());
       case 34: {
         const std::string reasons = s.reasons.joined(',');
         return sqlite3_result_text(out, reasons.data(), static_cast<int>(reasons.size()),
@@ -315,11 +318,10 @@ schema::Envelope write_segment_rtree(sqlite::Database& db, const RoadGraph& grap
   for (const Segment& s : graph.segments) grow(extent, schema::envelope_of(graph.line(s)));
   // The boxes are computed from the lines as the load needs them, not held: this runs beside
   // the cost stages, at the build's peak memory.
-  bulk_load_rtree(db.handle(), std::string(schema::kSegmentsRtree), graph.segments.size(),
-                  [&](std::size_t i) {
-                    const Segment& s = graph.segments[i];
-                    return RtreeEntry{s.id, schema::envelope_of(graph.line(s))};
-                  });
+  bulk_load_rtree(
+      db.handle(), std::string(schema::kSegmentsRtree), graph.segments.size(), [&](std::size_t i) {
+        return RtreeEntry{RoadGraph::id_at(i), schema::envelope_of(graph.line(graph.segments[i]))};
+      });
   return extent;
 }
 

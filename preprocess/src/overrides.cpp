@@ -180,14 +180,15 @@ bool edges_cross(PlanePoint p1, PlanePoint p2, PlanePoint q1, PlanePoint q2) {
          ((d3 >= 0) != (d4 >= 0) || d3 == 0 || d4 == 0) && !(d1 == 0 && d2 == 0 && d3 == 0);
 }
 
-void apply_one(Segment& s, const Override& o, TextPool& text) {
+void apply_one(RoadGraph& graph, Segment& s, const Override& o) {
   if (s.context_score) s.context_score = *s.context_score + o.context_delta;
   if (o.no_crossing) {
     s.override_no_crossing = true;
     s.reasons.add("OVERRIDE");
   }
   if (o.force_suitable) s.override_force_suitable = true;
-  s.override_note = text.intern(s.override_note ? *s.override_note + "; " + o.note : o.note);
+  const std::string* note = graph.override_note(s);
+  graph.set_override_note(s, graph.text.intern(note ? *note + "; " + o.note : o.note));
 }
 
 }  // namespace
@@ -245,9 +246,9 @@ std::vector<std::uint64_t> apply_overrides(RoadGraph& graph,
       boxes.push_back(schema::envelope_of(polygons.back().front()));
     }
     for (Segment& s : graph.segments) {
-      const bool way_ok = o.osm_way_ids.empty() ||
-                          std::find(o.osm_way_ids.begin(), o.osm_way_ids.end(), s.osm_way_id) !=
-                              o.osm_way_ids.end();
+      const bool way_ok =
+          o.osm_way_ids.empty() || std::find(o.osm_way_ids.begin(), o.osm_way_ids.end(),
+                                             graph.osm_way_id(s)) != o.osm_way_ids.end();
       if (!way_ok) continue;
       bool area_ok = polygons.empty();
       const schema::Envelope e = schema::envelope_of(graph.line(s));
@@ -258,7 +259,7 @@ std::vector<std::uint64_t> apply_overrides(RoadGraph& graph,
         area_ok = polyline_touches_polygon(graph.line(s), polygons[k]);
       }
       if (!area_ok) continue;
-      apply_one(s, o, graph.text);
+      apply_one(graph, s, o);
       ++touched[i];
     }
   }

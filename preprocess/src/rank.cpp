@@ -33,9 +33,8 @@ int rank_of(int curvature_cost, int class_cost, std::optional<int> elevation_cos
 void compute_ranks(RoadGraph& graph, const RankParameters& p) {
   for (Segment& s : graph.segments) {
     // (Reasons need no sorting: ReasonSet keeps them in their canonical order.)
-    s.rank = rank_of(s.curvature_cost.value_or(0), s.class_cost.value_or(0),
+    s.rank = rank_of(s.curvature_cost.value_or(0), graph.class_cost(s).value_or(0),
                      s.elevation_cost.optional(), p);
-    s.score = 15 - *s.rank;
   }
 }
 

@@ -14,7 +14,7 @@ std::size_t index_of(std::string_view code) {
 }  // namespace
 
 void ReasonSet::add(std::string_view code) {
-  bits_ |= 1u << index_of(code);
+  bits_ = static_cast<std::uint16_t>(bits_ | (1u << index_of(code)));
 }
 
 bool ReasonSet::contains(std::string_view code) const {

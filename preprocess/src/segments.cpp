@@ -11,8 +11,20 @@
 
 namespace roadcross::preprocess {
 
-// A regression guard: the segment table is most of the build's peak memory.
-static_assert(sizeof(Segment) <= 160, "Segment grew: every byte costs ~10 MB a country");
+std::uint32_t NoteTable::index_of(const SegmentNotes& notes) {
+  // The none pair is index 0 without being in the map (a default Segment's).
+  if (notes == SegmentNotes{}) return 0;
+  const auto [it, added] = index_.try_emplace(notes, 0);
+  if (added) {
+    if (pairs_.size() > std::numeric_limits<std::uint32_t>::max()) {
+      index_.erase(it);
+      throw std::length_error("more than 4 294 967 295 distinct segment notes: 32-bit indices");
+    }
+    it->second = static_cast<std::uint32_t>(pairs_.size());
+    pairs_.push_back(notes);
+  }
+  return it->second;
+}
 
 double polyline_length_m(std::span<const PlanePoint> points) noexcept {
   double length = 0.0;
@@ -120,8 +132,7 @@ PlanePoint point_at(const std::vector<PlanePoint>& points, const std::vector<dou
           points[edge].y + t * (points[edge + 1].y - points[edge].y)};
 }
 
-void cut_piece(RoadGraph& graph, std::size_t piece_index, const RoadWay& way, double max_length_m,
-               std::int64_t& next_split_id) {
+void cut_piece(RoadGraph& graph, std::size_t piece_index, const RoadWay& way, double max_length_m) {
   RoadPiece& piece = graph.pieces[piece_index];
   const std::vector<PlanePoint>& pts = piece.points;
   std::vector<double> cumulative(pts.size(), 0.0);
@@ -136,30 +147,27 @@ void cut_piece(RoadGraph& graph, std::size_t piece_index, const RoadWay& way, do
   piece.first_segment = graph.segments.size();
   piece.segment_count = count;
 
-  const InternedText highway = graph.text.intern_text(way.highway);
+  piece.osm_way_id = way.osm_id;
+  piece.highway = graph.text.intern_text(way.highway);
   const std::string_view name_tag = tag_value(way.tags, "name");
-  const InternedText name = name_tag.empty() ? InternedText() : graph.text.intern_text(name_tag);
+  piece.name = name_tag.empty() ? InternedText() : graph.text.intern_text(name_tag);
   const bool oneway = way_is_oneway(way.tags);
   const bool tunnel = way_is_tunnel(way.tags);
   const bool bridge = is_yes(tag_value(way.tags, "bridge"));
   std::size_t edge = 0;
   std::vector<PlanePoint>& line = graph.segment_points;
-  std::int64_t from_node = piece.from_node_id;
   PlanePoint from_point = pts.front();
   for (std::size_t k = 0; k < count; ++k) {
+    // RoadGraph::offset_in_piece_m and length_m derive the segment's span with the same
+    // arithmetic; its id and end node ids follow from its index and piece (RoadGraph).
     const double start_m = part_m * static_cast<double>(k);
     const double end_m = (k + 1 == count) ? piece.length_m : part_m * static_cast<double>(k + 1);
     Segment segment;
-    segment.id = static_cast<std::int64_t>(graph.segments.size()) + 1;
     // A 32-bit index (checked in build_road_graph).
     segment.piece_index = static_cast<std::uint32_t>(piece_index);
-    segment.osm_way_id = way.osm_id;
-    segment.highway = highway;
-    segment.name = name;
     segment.oneway = oneway;
     segment.tunnel = tunnel;
     segment.bridge = bridge;
-    segment.from_node_id = from_node;
     // The line starts at the previous segment's last point (already in the pool), if any.
     if (k == 0) line.push_back(from_point);
     const std::size_t first_point = line.size() - 1;
@@ -172,18 +180,13 @@ void cut_piece(RoadGraph& graph, std::size_t piece_index, const RoadWay& way, do
     const bool last = (k + 1 == count);
     const PlanePoint to_point = last ? pts.back() : point_at(pts, cumulative, end_m, edge);
     line.push_back(to_point);
-    const std::size_t point_count = line.size() - first_point;
-    if (line.size() > std::numeric_limits<std::uint32_t>::max() ||
-        point_count > std::numeric_limits<std::uint16_t>::max()) {
+    if (line.size() > std::numeric_limits<std::uint32_t>::max()) {
       throw std::length_error("OSM way " + std::to_string(way.osm_id) +
-                              ": more than 65 535 points in one segment or 4 294 967 295 in "
-                              "all: segment line indices are 16/32-bit");
+                              ": more than 4 294 967 295 segment points in all: segment line "
+                              "indices are 32-bit");
     }
+    // The point count is derived (RoadGraph::line): the line ends where the next one starts.
     segment.first_point = static_cast<std::uint32_t>(first_point);
-    segment.point_count = static_cast<std::uint16_t>(point_count);
-    segment.to_node_id = last ? piece.to_node_id : next_split_id--;
-    segment.length_m = end_m - start_m;
-    from_node = segment.to_node_id;
     from_point = to_point;
     graph.segments.push_back(std::move(segment));
   }
@@ -266,12 +269,11 @@ RoadGraph build_road_graph(const RoadNetwork& network, geo::UtmZone zone,
   // Pass 3: the segments, in piece order.
   graph.segments.reserve(segment_total);
   graph.segment_points.reserve(point_total);
-  std::int64_t next_split_id = -1;
   for (std::size_t p = 0; p < graph.pieces.size(); ++p) {
     const RoadPiece& piece = graph.pieces[p];
     ++graph.degree[piece.from_node_id];
     ++graph.degree[piece.to_node_id];
-    cut_piece(graph, p, network.ways[piece.way_index], max_segment_length_m, next_split_id);
+    cut_piece(graph, p, network.ways[piece.way_index], max_segment_length_m);
   }
   return graph;
 }

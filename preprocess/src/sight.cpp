@@ -459,9 +459,9 @@ double worse_kerb_m(KerbSearch& a, KerbSearch& b) {
   return other.answer_up_to(finished.answer_m());
 }
 
-double required_sight_m(const Segment& s, const SightParameters& p) {
-  const double speed_mps = s.maxspeed_kmh.value_or(float(p.default_speed_kmh)) / 3.6;
-  const double width_m = s.width_m.value_or(float(p.default_width_m));
+double required_sight_m(const RoadGraph& graph, const Segment& s, const SightParameters& p) {
+  const double speed_mps = graph.maxspeed_kmh(s).value_or(float(p.default_speed_kmh)) / 3.6;
+  const double width_m = graph.width_m(s).value_or(float(p.default_width_m));
   return speed_mps * (width_m / p.crossing_speed_mps + p.startup_time_s + p.margin_s);
 }
 
@@ -478,7 +478,8 @@ struct Context {
 void sight_of_segment(const Context& c, Segment& s, SightWork& work, Fan& fan) {
   const RoadPiece& piece = c.graph.pieces[s.piece_index];
   const std::vector<double>& cum = c.cumulative[s.piece_index];
-  const double pos_m = std::clamp(c.graph.offset_in_piece_m(s) + 0.5 * s.length_m, 0.0, cum.back());
+  const double pos_m =
+      std::clamp(c.graph.offset_in_piece_m(s) + 0.5 * c.graph.length_m(s), 0.0, cum.back());
   const Path ahead =
       follow_road(c.graph, c.incidences, c.cumulative, s.piece_index, pos_m, true, c.p.range_m);
   const Path behind =
@@ -488,7 +489,7 @@ void sight_of_segment(const Context& c, Segment& s, SightWork& work, Fan& fan) {
   const PlanePoint& b = piece.points[leg + 1];
   const double len = std::max(1e-9, distance_m(a, b));
   const PlanePoint normal{-(b.y - a.y) / len, (b.x - a.x) / len};
-  const double half_width_m = 0.5 * s.width_m.value_or(float(c.p.default_width_m));
+  const double half_width_m = 0.5 * c.graph.width_m(s).value_or(float(c.p.default_width_m));
   std::array<Point3, 2> eyes;  // the left kerb, then the right one
   for (std::size_t i = 0; i < 2; ++i) {
     const double side = i == 0 ? 1.0 : -1.0;
@@ -508,7 +509,7 @@ void sight_of_segment(const Context& c, Segment& s, SightWork& work, Fan& fan) {
   s.sight_forward_m = forward_m;
   s.sight_backward_m = backward_m;
   s.sight_min_m = std::min(forward_m, backward_m);
-  s.required_sight_m = required_sight_m(s, c.p);
+  s.required_sight_m = required_sight_m(c.graph, s, c.p);
   if (*s.sight_min_m < *s.required_sight_m) s.reasons.add("LIMITED_VISIBILITY");
 }
 
@@ -563,7 +564,6 @@ void apply_sight_rank_penalty(RoadGraph& graph, const SightParameters& p) {
   for (Segment& s : graph.segments) {
     if (!s.rank || !s.reasons.contains("LIMITED_VISIBILITY")) continue;
     s.rank = std::min(14, *s.rank + static_cast<int>(p.rank_penalty));
-    s.score = 15 - *s.rank;
   }
 }
 

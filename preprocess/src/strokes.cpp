@@ -60,7 +60,7 @@ Stroke make_stroke(const RoadGraph& graph, const std::deque<Step>& steps, bool c
     for (std::size_t k = 0; k < piece.segment_count; ++k) {
       const std::size_t index = piece.first_segment + k;
       const Segment& s = graph.segments[index];
-      const double a = graph.offset_in_piece_m(s), b = a + s.length_m;
+      const double a = graph.offset_in_piece_m(s), b = a + graph.length_m(s);
       in_piece.push_back(step.reversed ? StrokeSegment{index, true, base + piece.length_m - b,
                                                        base + piece.length_m - a}
                                        : StrokeSegment{index, false, base + a, base + b});

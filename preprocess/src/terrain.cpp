@@ -540,7 +540,7 @@ void assign_structure_run(RoadGraph& graph, const Stroke& stroke, std::size_t fi
 }  // namespace
 
 PlanePoint segment_midpoint(const RoadGraph& graph, const Segment& s) {
-  return point_along(graph.line(s), 0.5 * s.length_m);
+  return point_along(graph.line(s), 0.5 * graph.length_m(s));
 }
 
 void sample_terrain(const RoadGraph& graph, const TerrainModel& m,
@@ -565,12 +565,13 @@ TpiStandardisation standardisation(const GridStatistics& small, const GridStatis
           std::max(large.standard_deviation, p.tpi_large_min_sd_m)};
 }
 
-void store_terrain_sample(Segment& s, const TerrainSample& t) {
+/// `length_m`: the segment's (RoadGraph::length_m), metres.
+void store_terrain_sample(Segment& s, double length_m, const TerrainSample& t) {
   if (s.bridge || s.tunnel) return;  // elevation from the structure's ends (assign_terrain)
   s.elevation_m = finite(t.z_mid_m);
   if (!s.elevation_m) return;
   s.slope_deg = finite(t.slope_deg);
-  if (s.length_m > 0.0) s.grade_percent = finite(100.0 * (t.z_end_m - t.z_start_m) / s.length_m);
+  if (length_m > 0.0) s.grade_percent = finite(100.0 * (t.z_end_m - t.z_start_m) / length_m);
   s.tpi_small_m = finite(t.tpi_small_m);
   s.tpi_large_m = finite(t.tpi_large_m);
 }
@@ -580,7 +581,7 @@ void assign_terrain(RoadGraph& graph, const std::vector<TerrainSample>& samples,
   std::vector<StructureEnds> structure_ends;
   for (std::size_t i = 0; i < graph.segments.size(); ++i) {
     Segment& s = graph.segments[i];
-    store_terrain_sample(s, samples[i]);
+    store_terrain_sample(s, graph.length_m(s), samples[i]);
     if (s.bridge || s.tunnel)
       structure_ends.push_back({i, samples[i].z_start_m, samples[i].z_end_m});
   }
@@ -1086,7 +1087,7 @@ TileResult TileJob::run(std::size_t tile, ThreadState& thread) const {
   sample_elevation(elevation, segments, midpoints, samples);
   for (std::size_t k = 0; k < segments.size(); ++k) {
     Segment& s = graph.segments[segments[k]];
-    store_terrain_sample(s, samples[k]);
+    store_terrain_sample(s, graph.length_m(s), samples[k]);
     if (s.bridge || s.tunnel) {
       out.structure_ends.push_back({segments[k], samples[k].z_start_m, samples[k].z_end_m});
     }

@@ -45,7 +45,7 @@ const Built& built() {
 
 const rp::Segment& first_segment_of(std::int64_t way_id) {
   for (const rp::Segment& s : built().graph.segments) {
-    if (s.osm_way_id == way_id) return s;
+    if (built().graph.osm_way_id(s) == way_id) return s;
   }
   throw std::runtime_error("no segment of way " + std::to_string(way_id));
 }
@@ -102,11 +102,12 @@ TEST(ContextStage, EveryTagFormGivesTheHandDerivedValues) {
     SCOPED_TRACE("way " + std::to_string(e.way));
     const rp::Segment& s = first_segment_of(e.way);
     // Segments store these as floats (7 digits): 30 mph = 48.28032 km/h reads 48.280319.
-    EXPECT_NEAR(*s.maxspeed_kmh, e.maxspeed_kmh, 1e-5);
-    EXPECT_EQ(*s.lanes, e.lanes);
-    EXPECT_NEAR(*s.width_m, e.width_m, 1e-5);
+    EXPECT_NEAR(*built().graph.maxspeed_kmh(s), e.maxspeed_kmh, 1e-5);
+    EXPECT_EQ(*built().graph.lanes(s), e.lanes);
+    EXPECT_NEAR(*built().graph.width_m(s), e.width_m, 1e-5);
     EXPECT_EQ(*s.context_score, e.context);
-    EXPECT_EQ(s.context_defaulted ? *s.context_defaulted : std::string(), e.defaulted);
+    const std::string* defaulted = built().graph.context_defaulted(s);
+    EXPECT_EQ(defaulted ? *defaulted : std::string(), e.defaulted);
     const bool busy = s.reasons.contains("BUSY_ROAD");
     EXPECT_EQ(busy, e.context < 5);
   }
@@ -165,7 +166,7 @@ TEST(ContextStage, EveryCrossingKind) {
   const rp::Crossing& geometric = crossings.back();
   const rp::Segment& on =
       built().graph.segments[static_cast<std::size_t>(geometric.segment_id - 1)];
-  EXPECT_EQ(on.osm_way_id, 203);
+  EXPECT_EQ(built().graph.osm_way_id(on), 203);
   const auto& piece = built().graph.pieces[geometric.piece_index];
   EXPECT_NEAR(geometric.offset_in_piece_m, 0.75 * piece.length_m, 0.05);
 }
@@ -178,9 +179,9 @@ TEST(ContextStage, CrossingDistanceAlongTheRoadGraph) {
   std::vector<double> w200, w201;
   std::vector<int> w200_score;
   for (const rp::Segment& s : built().graph.segments) {
-    if (s.osm_way_id == 200)
-      w200.push_back(*s.crossing_distance_m), w200_score.push_back(*s.context_score);
-    if (s.osm_way_id == 201) w201.push_back(*s.crossing_distance_m);
+    const std::int64_t way = built().graph.osm_way_id(s);
+    if (way == 200) w200.push_back(*s.crossing_distance_m), w200_score.push_back(*s.context_score);
+    if (way == 201) w201.push_back(*s.crossing_distance_m);
   }
   ASSERT_EQ(w200.size(), 4u);
   ASSERT_EQ(w201.size(), 3u);
@@ -195,7 +196,7 @@ TEST(ContextStage, CrossingDistanceAlongTheRoadGraph) {
 
 TEST(ContextStage, InformalCrossingGivesNoBonusAndNoDistance) {
   for (const rp::Segment& s : built().graph.segments) {
-    if (s.osm_way_id != 202) continue;
+    if (built().graph.osm_way_id(s) != 202) continue;
     EXPECT_FALSE(s.crossing_distance_m.has_value());
     EXPECT_EQ(*s.context_score, 10);
   }

@@ -22,14 +22,13 @@ constexpr double kPi = 3.14159265358979323846;
 
 struct GraphBuilder {
   rp::RoadGraph graph;
-  std::int64_t next_split = -1;
-
   /// Adds a piece from node `from` to `to` along `points`, cut into segments of <= max_m.
   void add_piece(std::int64_t from, std::int64_t to, std::vector<PlanePoint> points,
                  const std::string& highway = "residential", double max_m = 10.0) {
     rp::RoadPiece piece;
     piece.from_node_id = from;
     piece.to_node_id = to;
+    piece.highway = graph.text.intern_text(highway);
     piece.points = points;
     piece.length_m = rp::polyline_length_m(points);
     piece.first_segment = graph.segments.size();
@@ -47,27 +46,21 @@ struct GraphBuilder {
       return PlanePoint{points[j - 1].x + t * (points[j].x - points[j - 1].x),
                         points[j - 1].y + t * (points[j].y - points[j - 1].y)};
     };
-    std::int64_t node = from;
     for (std::size_t k = 0; k < count; ++k) {
       const double n = static_cast<double>(count);
       const double a = piece.length_m * static_cast<double>(k) / n,
                    b = piece.length_m * static_cast<double>(k + 1) / n;
       rp::Segment seg;
-      seg.id = static_cast<std::int64_t>(graph.segments.size()) + 1;
       seg.piece_index = static_cast<std::uint32_t>(graph.pieces.size());
-      seg.length_m = b - a;
-      seg.highway = graph.text.intern_text(highway);
-      seg.from_node_id = node;
-      seg.to_node_id = (k + 1 == count) ? to : next_split--;
-      node = seg.to_node_id;
       std::vector<PlanePoint>& line = graph.segment_points;
-      seg.first_point = static_cast<std::uint32_t>(line.size());
-      line.push_back(at(a));
+      // As the segmenter stores them: a segment starts on the point the previous segment of
+      // its piece ends on (RoadGraph::line derives the point count from that).
+      if (k == 0) line.push_back(at(a));
+      seg.first_point = static_cast<std::uint32_t>(line.size() - 1);
       for (std::size_t i = 1; i + 1 < points.size(); ++i) {
         if (s[i] > a && s[i] < b) line.push_back(points[i]);
       }
       line.push_back(k + 1 == count ? points.back() : at(b));
-      seg.point_count = static_cast<std::uint16_t>(line.size() - seg.first_point);
       graph.segments.push_back(seg);
     }
     ++graph.degree[from];
@@ -147,7 +140,7 @@ TEST_P(ArcRadius, SegmentsOnTheArcGetItsRadius) {
     ASSERT_TRUE(s.radius_m.has_value());
     // The segments at the two dead ends see only half a triangle; the rest must be within 10 %.
     const double from_start = b.graph.offset_in_piece_m(s),
-                 to_end = b.graph.pieces[0].length_m - from_start - s.length_m;
+                 to_end = b.graph.pieces[0].length_m - from_start - b.graph.length_m(s);
     if (from_start < spacing + p.curvature_baseline_m || to_end < spacing + p.curvature_baseline_m)
       continue;
     EXPECT_NEAR(*s.radius_m, radius, 0.10 * radius) << "segment at " << from_start << " m";
@@ -261,7 +254,7 @@ TEST(Curvature, SplittingARoadIntoTwoWaysChangesNothing) {
     for (const rp::RoadPiece& piece : g.pieces) {
       for (std::size_t k = 0; k < piece.segment_count; ++k) {
         const rp::Segment& s = g.segments[piece.first_segment + k];
-        out.emplace_back(base + g.offset_in_piece_m(s) + s.length_m / 2, *s.radius_m,
+        out.emplace_back(base + g.offset_in_piece_m(s) + g.length_m(s) / 2, *s.radius_m,
                          *s.curvature_level, *s.curvature_cost);
       }
       base += piece.length_m;
@@ -466,12 +459,12 @@ TEST(Rank, BothEndsOccurForRealInputs) {
   rp::compute_geometry_costs(b.graph, {});
   rp::compute_ranks(b.graph, {});
   EXPECT_EQ(*b.graph.segments[20].rank, 0);
-  EXPECT_EQ(*b.graph.segments[20].score, 15);
+  EXPECT_EQ(*b.graph.segments[20].score(), 15);
   const rp::Segment& at_junction = b.graph.segments[40];
   EXPECT_EQ(*at_junction.curvature_level, 5);
   EXPECT_EQ(*at_junction.curvature_cost, 14);  // floor(30) clamped
   EXPECT_EQ(*at_junction.rank, 14);
-  EXPECT_EQ(*at_junction.score, 1);
+  EXPECT_EQ(*at_junction.score(), 1);
 }
 
 TEST(Parameters, ValidationNamesTheParameter) {

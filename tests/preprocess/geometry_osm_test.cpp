@@ -49,7 +49,7 @@ rp::RoadGraph build(const std::string& body) {
 std::vector<const rp::Segment*> segments_of(const rp::RoadGraph& graph, std::int64_t way_id) {
   std::vector<const rp::Segment*> out;
   for (const rp::Segment& s : graph.segments) {
-    if (s.osm_way_id == way_id) out.push_back(&s);
+    if (graph.osm_way_id(s) == way_id) out.push_back(&s);
   }
   return out;
 }
@@ -86,7 +86,7 @@ TEST_P(OsmArc, RadiusOfTheDrawnArc) {
     // read the arc's radius.
     const double margin_m = 10.0 + spacing_m;
     const double offset_m = graph.offset_in_piece_m(s);
-    if (offset_m < margin_m || offset_m + s.length_m > length_m - margin_m) continue;
+    if (offset_m < margin_m || offset_m + graph.length_m(s) > length_m - margin_m) continue;
     EXPECT_NEAR(*s.radius_m, radius_m, 0.10 * radius_m) << "at " << offset_m << " m";
     EXPECT_TRUE(radius_m >= 90.0 || has_reason(s, "SHARP_BEND"));
     ++checked;
@@ -145,7 +145,7 @@ TEST(OsmSplit, TwoWaysJoinedAtADegreeTwoNodeGiveTheCostsOfOneWay) {
   for (std::size_t i = 0; i < 28; ++i) {
     const rp::Segment& a = one.segments[i];
     const rp::Segment& b = two.segments[i < 14 ? i : 14 + (27 - i)];
-    EXPECT_NEAR(a.length_m, b.length_m, 0.01) << i;
+    EXPECT_NEAR(one.length_m(a), two.length_m(b), 0.01) << i;
     EXPECT_NEAR(*a.radius_m, *b.radius_m, 1e-6 * *a.radius_m) << i;
     EXPECT_EQ(*a.curvature_level, *b.curvature_level) << i;
     EXPECT_EQ(*a.curvature_cost, *b.curvature_cost) << i;
@@ -299,7 +299,9 @@ TEST(OsmTags, StructuresClassesAndTheCanonicalReasonOrder) {
     id += 2;
   }
   const rp::RoadGraph g = build(body);
-  const auto first = [&](std::int64_t way) { return *segments_of(g, way).at(0); };
+  const auto first = [&](std::int64_t way) -> const rp::Segment& {
+    return *segments_of(g, way).at(0);
+  };
   EXPECT_TRUE(first(1).tunnel);
   EXPECT_EQ(first(1).reasons.list(), std::vector<std::string>{"TUNNEL"});
   EXPECT_TRUE(first(2).tunnel);  // covered=yes is a tunnel for a robot: no view of traffic
@@ -308,13 +310,13 @@ TEST(OsmTags, StructuresClassesAndTheCanonicalReasonOrder) {
   EXPECT_TRUE(first(3).reasons.empty());
   // Forbidding reasons first: class, then structure.
   EXPECT_EQ(first(4).reasons.list(), (std::vector<std::string>{"NOT_CROSSABLE_CLASS", "TUNNEL"}));
-  EXPECT_EQ(*first(4).class_cost, 5);
+  EXPECT_EQ(*g.class_cost(first(4)), 5);
   EXPECT_TRUE(segments_of(g, 5).empty());  // a footway is not a road
   EXPECT_FALSE(first(6).tunnel);
-  EXPECT_EQ(*first(6).class_cost, 1);
+  EXPECT_EQ(*g.class_cost(first(6)), 1);
   // Straight, no junction, unclassified: rank floor(15 * (70 * 0/14 + 5 * 1/5) / 75) = 0.
   EXPECT_EQ(*first(6).rank, 0);
-  EXPECT_EQ(*first(6).score, 15);
+  EXPECT_EQ(*first(6).score(), 15);
 }
 
 }  // namespace

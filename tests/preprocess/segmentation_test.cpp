@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "osm_fixture.hpp"
 #include "roadcross/preprocess/errors.hpp"
@@ -48,18 +49,19 @@ TEST(Segmentation, StraightWayIsCutIntoEqualSegments) {
   // ceil(93.169 / 10) = 10 segments of 9.3169 m.
   ASSERT_EQ(b.graph.segments.size(), 10u);
   for (const rp::Segment& s : b.graph.segments) {
-    EXPECT_NEAR(s.length_m, kStraightLength_m / 10, 1e-4);
-    EXPECT_NEAR(rp::polyline_length_m(b.graph.line(s)), s.length_m, 1e-6);
-    EXPECT_EQ(s.osm_way_id, 10);
-    EXPECT_EQ(s.highway, "residential");
-    EXPECT_EQ(s.name, "Straight");
+    EXPECT_NEAR(b.graph.length_m(s), kStraightLength_m / 10, 1e-4);
+    EXPECT_NEAR(rp::polyline_length_m(b.graph.line(s)), b.graph.length_m(s), 1e-6);
+    EXPECT_EQ(b.graph.osm_way_id(s), 10);
+    EXPECT_EQ(b.graph.highway(s), "residential");
+    EXPECT_EQ(b.graph.name(s), "Straight");
   }
   // Consecutive segments share their end points and graph nodes; the ends are OSM nodes 1, 2.
-  EXPECT_EQ(b.graph.segments.front().from_node_id, 1);
-  EXPECT_EQ(b.graph.segments.back().to_node_id, 2);
+  EXPECT_EQ(b.graph.from_node_id(b.graph.segments.front()), 1);
+  EXPECT_EQ(b.graph.to_node_id(b.graph.segments.back()), 2);
   for (std::size_t i = 1; i < b.graph.segments.size(); ++i) {
-    EXPECT_EQ(b.graph.segments[i].from_node_id, b.graph.segments[i - 1].to_node_id);
-    EXPECT_LT(b.graph.segments[i].from_node_id, 0);  // a split point, not an OSM node
+    EXPECT_EQ(b.graph.from_node_id(b.graph.segments[i]),
+              b.graph.to_node_id(b.graph.segments[i - 1]));
+    EXPECT_LT(b.graph.from_node_id(b.graph.segments[i]), 0);  // a split point, not an OSM node
     EXPECT_EQ(b.graph.line(b.graph.segments[i]).front().x,
               b.graph.line(b.graph.segments[i - 1]).back().x);
   }
@@ -85,9 +87,79 @@ TEST(Segmentation, OffsetInPieceIsTheSumOfTheSegmentsBefore) {
       EXPECT_NEAR(b.graph.offset_in_piece_m(s), kStraightLength_m / 10 * static_cast<double>(k),
                   1e-3);
       EXPECT_NEAR(b.graph.offset_in_piece_m(s), before_m, 1e-9);
-      before_m += s.length_m;
+      before_m += b.graph.length_m(s);
     }
   }
+}
+
+// Ids, end node ids, lengths and the way's columns are derived from the segment's piece and
+// index rather than stored. Way 10 (1 -> 2, 10 segments) then way 20 (2 -> 3, 5 segments):
+// the segmenter numbered the split points -1, -2, ... in segment order, one after every
+// segment but each piece's last, and the ids 1..15.
+TEST(Segmentation, DerivedIdsEndNodesAndWayColumns) {
+  const Built b = build(rt::osm_node(1, 50.0, 14.4) + rt::osm_node(2, 50.0, 14.4013) +
+                        rt::osm_node(3, 50.0, 14.40195) +
+                        rt::osm_way(10, "1 2", "highway=residential;name=Ten") +
+                        rt::osm_way(20, "2 3", "highway=service"));
+  const rp::RoadGraph& g = b.graph;
+  ASSERT_EQ(g.segments.size(), 15u);
+  const std::vector<std::int64_t> from = {1,  -1, -2, -3,  -4,  -5,  -6, -7,
+                                          -8, -9, 2,  -10, -11, -12, -13};
+  const std::vector<std::int64_t> to = {-1, -2, -3,  -4,  -5,  -6,  -7, -8,
+                                        -9, 2,  -10, -11, -12, -13, 3};
+  for (std::size_t i = 0; i < g.segments.size(); ++i) {
+    const rp::Segment& s = g.segments[i];
+    EXPECT_EQ(g.index_of(s), i);
+    EXPECT_EQ(g.id_of(s), static_cast<std::int64_t>(i) + 1);
+    EXPECT_EQ(g.from_node_id(s), from[i]) << i;
+    EXPECT_EQ(g.to_node_id(s), to[i]) << i;
+    const bool first_way = i < 10;
+    EXPECT_EQ(g.osm_way_id(s), first_way ? 10 : 20) << i;
+    EXPECT_EQ(g.highway(s), first_way ? "residential" : "service") << i;
+    EXPECT_EQ(g.name(s), first_way ? "Ten" : "") << i;
+  }
+  // The lengths: the segmenter's arithmetic (equal parts of length / count, the last ending at
+  // the piece's end), bit for bit.
+  for (const rp::RoadPiece& piece : g.pieces) {
+    const double part_m = piece.length_m / static_cast<double>(piece.segment_count);
+    for (std::size_t k = 0; k < piece.segment_count; ++k) {
+      const double start_m = part_m * static_cast<double>(k);
+      const double end_m =
+          k + 1 == piece.segment_count ? piece.length_m : part_m * static_cast<double>(k + 1);
+      EXPECT_EQ(g.length_m(g.segments[piece.first_segment + k]), end_m - start_m) << k;
+    }
+  }
+}
+
+// The two note texts of a segment share one index into a table of the distinct pairs.
+TEST(Segmentation, NotesAreSharedPairs) {
+  rp::RoadGraph g;
+  g.segments.resize(3);
+  const std::string* lanes = g.text.intern("lanes");
+  const std::string* note = g.text.intern("closed");
+  for (const rp::Segment& s : g.segments) {
+    EXPECT_EQ(s.notes, 0u);
+    EXPECT_EQ(g.context_defaulted(s), nullptr);
+    EXPECT_EQ(g.override_note(s), nullptr);
+  }
+  g.set_context_defaulted(g.segments[0], lanes);
+  g.set_context_defaulted(g.segments[1], lanes);
+  g.set_override_note(g.segments[1], note);
+  g.set_override_note(g.segments[2], note);
+  EXPECT_EQ(g.context_defaulted(g.segments[0]), lanes);
+  EXPECT_EQ(g.override_note(g.segments[0]), nullptr);
+  EXPECT_EQ(g.context_defaulted(g.segments[1]), lanes);
+  EXPECT_EQ(g.override_note(g.segments[1]), note);
+  EXPECT_EQ(g.context_defaulted(g.segments[2]), nullptr);
+  EXPECT_EQ(g.override_note(g.segments[2]), note);
+  // Three distinct pairs besides none; the same pair again gets the same index.
+  EXPECT_EQ(g.notes.size(), 4u);
+  g.set_context_defaulted(g.segments[2], lanes);
+  EXPECT_EQ(g.segments[2].notes, g.segments[1].notes);
+  g.set_override_note(g.segments[2], nullptr);
+  g.set_context_defaulted(g.segments[2], nullptr);
+  EXPECT_EQ(g.segments[2].notes, 0u);
+  EXPECT_EQ(g.notes.size(), 4u);
 }
 
 TEST(Segmentation, MaxSegmentLengthIsRespected) {
@@ -133,8 +205,8 @@ TEST(Segmentation, SegmentTableIsAllocatedAtItsExactSize) {
     for (std::size_t k = 0; k < piece.segment_count; ++k) {
       const rp::Segment& s = b.graph.segments[piece.first_segment + k];
       EXPECT_EQ(s.first_point, expected_point);
-      ASSERT_GE(s.point_count, 2u);
-      expected_point += s.point_count - 1u;
+      ASSERT_GE(b.graph.line(s).size(), 2u);
+      expected_point += b.graph.line(s).size() - 1u;
     }
     ++expected_point;
   }
@@ -153,9 +225,9 @@ TEST(Segmentation, InteriorVerticesAreKept) {
   double total = 0;
   bool kink_kept = false;
   for (const rp::Segment& s : b.graph.segments) {
-    total += s.length_m;
-    EXPECT_NEAR(rp::polyline_length_m(b.graph.line(s)), s.length_m, 1e-6);
-    if (s.point_count == 3) kink_kept = true;
+    total += b.graph.length_m(s);
+    EXPECT_NEAR(rp::polyline_length_m(b.graph.line(s)), b.graph.length_m(s), 1e-6);
+    if (b.graph.line(s).size() == 3) kink_kept = true;
   }
   EXPECT_NEAR(total, b.graph.pieces[0].length_m, 1e-6);
   EXPECT_TRUE(kink_kept);

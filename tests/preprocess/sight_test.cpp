@@ -286,13 +286,13 @@ TEST(Sight, RankPenaltyOnlyInCostMode) {
   rp::RoadGraph graph = graph_of({{-200, 0}, {0, 0}, {0, 200}}, 20.0);
   rp::SightParameters p;
   rp::compute_sight(graph, nullptr, box(-100, 10, -10, 100, 10.0), p);
-  for (rp::Segment& s : graph.segments) s.rank = 2, s.score = 13;
+  for (rp::Segment& s : graph.segments) s.rank = 2;
   rp::apply_sight_rank_penalty(graph, p);  // unsuitable mode: the runtime decides, rank stays
   EXPECT_EQ(*segment_at(graph, -30, 0).rank, 2);
   p.limited_visibility_unsuitable = 0.0;
   rp::apply_sight_rank_penalty(graph, p);
   EXPECT_EQ(*segment_at(graph, -30, 0).rank, 6);
-  EXPECT_EQ(*segment_at(graph, -30, 0).score, 9);
+  EXPECT_EQ(*segment_at(graph, -30, 0).score(), 9);
 }
 
 namespace {

@@ -1,5 +1,5 @@
 // The reason codes a segment can carry, as a bit set in their canonical reporting order (what
-// forbids crossing first, then why the place is poor): 4 bytes a segment instead of a vector of
+// forbids crossing first, then why the place is poor): 2 bytes a segment instead of a vector of
 // strings, and always sorted and unique.
 #pragma once
 
@@ -25,6 +25,8 @@ inline constexpr std::array<std::string_view, 12> kReasonCodes = {"NOT_CROSSABLE
                                                                   "TOO_FAR_FROM_ROAD"};
 
 class ReasonSet {
+  static_assert(kReasonCodes.size() <= 16, "ReasonSet holds 16 bits: widen bits_ for more codes");
+
  public:
   /// Adds a code of kReasonCodes; throws std::logic_error for any other (a typo in the code).
   void add(std::string_view code);
@@ -37,7 +39,8 @@ class ReasonSet {
   bool operator==(const ReasonSet&) const = default;
 
  private:
-  std::uint32_t bits_ = 0;
+  // 2 bytes (a Segment holds one): a bit for each of the 12 codes.
+  std::uint16_t bits_ = 0;
 };
 
 }  // namespace roadcross::preprocess
