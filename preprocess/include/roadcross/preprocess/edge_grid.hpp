@@ -6,6 +6,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -26,22 +27,33 @@ inline std::int64_t floor_to_int(double x) {
   return static_cast<double>(t) > x ? t - 1 : t;
 }
 
-/// Calls visit(ix, iy) for every square cell of side `cell_m` that the segment a->b passes
-/// through, starting at a's end, until visit returns true (then returns true). Row by row: the
-/// part of the segment inside each row of cells gives the columns. Every interval is widened by
-/// kSlack cells, so a point of the segment is always in a visited cell despite rounding.
-/// (Multiplying by the reciprocal of the height instead of the two divisions per row, with the
-/// divisions only near cell boundaries, gave the same cells but no measurable gain.)
-template <typename Visit>
-bool for_cells_along(const PlanePoint& a, const PlanePoint& b, double cell_m, Visit&& visit) {
-  constexpr double kSlack = 1e-6;  // in cells: 16 micrometres at 16 m
-  const double ax = a.x / cell_m, ay = a.y / cell_m, bx = b.x / cell_m, by = b.y / cell_m;
-  const double y_min = std::min(ay, by), y_max = std::max(ay, by);
-  const bool up = by >= ay, right = bx >= ax;
-  const std::int64_t first_row = floor_to_int((up ? y_min : y_max) + (up ? -kSlack : kSlack));
-  const std::int64_t last_row = floor_to_int((up ? y_max : y_min) + (up ? kSlack : -kSlack));
-  const std::int64_t row_step = up ? 1 : -1;
-  for (std::int64_t row = first_row;; row += row_step) {
+/// The square cells of side `cell_m` that the segment a->b passes through, as for_cells_along
+/// visits them: rows first_row..last_row (upwards or downwards), in each row the columns
+/// columns() gives. Row by row: the part of the segment inside each row of cells gives the
+/// columns. Every interval is widened by kSlack cells, so a point of the segment is always in a
+/// visited cell despite rounding (and so is every point within ~kSlack cells of it). visits()
+/// answers for one cell with the walk's own arithmetic (the fans' candidate edges ask whether
+/// an edge is filed in a cell a line visits; see fan_candidates).
+struct CellsAlong {
+  static constexpr double kSlack = 1e-6;  // in cells: 16 micrometres at 16 m
+  double ax, ay, bx, by;                  ///< the ends, in cells
+  bool up, right;                         ///< the walk's directions
+  std::int64_t first_row, last_row;
+
+  CellsAlong(const PlanePoint& a, const PlanePoint& b, double cell_m)
+      : ax(a.x / cell_m),
+        ay(a.y / cell_m),
+        bx(b.x / cell_m),
+        by(b.y / cell_m),
+        up(by >= ay),
+        right(bx >= ax) {
+    const double y_min = std::min(ay, by), y_max = std::max(ay, by);
+    first_row = floor_to_int((up ? y_min : y_max) + (up ? -kSlack : kSlack));
+    last_row = floor_to_int((up ? y_max : y_min) + (up ? kSlack : -kSlack));
+  }
+
+  /// The columns c0..c1 of row `row` (one of the rows above).
+  void columns(std::int64_t row, std::int64_t& c0, std::int64_t& c1) const {
     double x0 = std::min(ax, bx), x1 = std::max(ax, bx);
     if (by != ay) {
       // The segment's x at the row's lower and upper edges, clamped to the segment.
@@ -51,9 +63,33 @@ bool for_cells_along(const PlanePoint& a, const PlanePoint& b, double cell_m, Vi
       x1 = ax + t1 * (bx - ax);
       if (x0 > x1) std::swap(x0, x1);
     }
-    const std::int64_t c0 = floor_to_int(x0 - kSlack);
-    const std::int64_t c1 = floor_to_int(x1 + kSlack);
-    if (right) {
+    c0 = floor_to_int(x0 - kSlack);
+    c1 = floor_to_int(x1 + kSlack);
+  }
+
+  /// True when the walk visits cell (column, row).
+  bool visits(std::int64_t column, std::int64_t row) const {
+    if (up ? (row < first_row || row > last_row) : (row > first_row || row < last_row)) {
+      return false;
+    }
+    std::int64_t c0 = 0, c1 = 0;
+    columns(row, c0, c1);
+    return c0 <= column && column <= c1;
+  }
+};
+
+/// Calls visit(ix, iy) for every cell of CellsAlong(a, b, cell_m), starting at a's end, until
+/// visit returns true (then returns true).
+/// (Multiplying by the reciprocal of the height instead of the two divisions per row, with the
+/// divisions only near cell boundaries, gave the same cells but no measurable gain.)
+template <typename Visit>
+bool for_cells_along(const PlanePoint& a, const PlanePoint& b, double cell_m, Visit&& visit) {
+  const CellsAlong cells(a, b, cell_m);
+  const std::int64_t row_step = cells.up ? 1 : -1;
+  for (std::int64_t row = cells.first_row;; row += row_step) {
+    std::int64_t c0 = 0, c1 = 0;
+    cells.columns(row, c0, c1);
+    if (cells.right) {
       for (std::int64_t c = c0; c <= c1; ++c) {
         if (visit(c, row)) return true;
       }
@@ -62,7 +98,7 @@ bool for_cells_along(const PlanePoint& a, const PlanePoint& b, double cell_m, Vi
         if (visit(c, row)) return true;
       }
     }
-    if (row == last_row) return false;
+    if (row == cells.last_row) return false;
   }
 }
 
@@ -528,5 +564,64 @@ class Fan {
   std::vector<PlanePoint> hull_, rel_hull_;
   std::vector<Axis> axes_;
 };
+
+/// The obstacle edges that may block a line of `fan` (from its eye to a target Fan::reset
+/// allows), into `out`: those that EdgeGrid::any_in_polygon offers for the fan's hull and
+/// Fan::edge_clear does not clear. ends(i) gives edge i's ends as a pair of PlanePoints. Mostly
+/// each once (an edge in several cells is judged once; the last id seen at each of 64 slots is
+/// remembered), sometimes twice, which blocked_among does not mind.
+///
+/// Why every edge that matters is among them: for a line L of the fan (eye -> target t, t
+/// within Fan::kOutlineSlackM of the hull), an edge i that any_along(L) offers and that can
+/// block L has crossing_parameter(L, a_i, b_i) not NaN (see blocked_among), so edge_clear
+/// is false for it (the Fan's proof); and any_along(L) offers only edges filed in cells
+/// for_cells_along(eye, t) visits, which any_in_polygon(hull, kMarginM) visits too: L lies in
+/// the hull widened by 1e-7 m, far inside the 1 mm margin, and any_in_polygon's rows and
+/// columns cover the hull widened by the margin and for_cells_along's slack. So i is offered
+/// here, and kept (an offer skipped by the 64 slots is an id judged before).
+template <typename Ends>
+void fan_candidates(const EdgeGrid& grid, const Fan& fan, Ends&& ends,
+                    std::vector<std::uint32_t>& out) {
+  out.clear();
+  std::array<std::uint32_t, 64> judged;
+  judged.fill(std::numeric_limits<std::uint32_t>::max());
+  grid.any_in_polygon(fan.hull(), Fan::kMarginM, [&](std::uint32_t i) {
+    std::uint32_t& slot = judged[i & 63];
+    if (slot == i) return false;
+    slot = i;
+    const auto [a, b] = ends(i);
+    if (!fan.edge_clear(a, b)) out.push_back(i);
+    return false;  // every cell: all the candidates are wanted
+  });
+}
+
+/// True when an edge any_along(eye, target, ...) offers has blocks(i) true: the same answer
+/// as EdgeGrid::any_along(eye, target, blocks), given `candidates` from fan_candidates for a fan
+/// from `eye` that allows `target`, and a `blocks` that is false whenever crossing_parameter
+/// (PlanLine(eye, target), a_i, b_i) is NaN (an edge the line does not cross in plan cannot
+/// block it). ends(i) as for fan_candidates.
+///
+/// Why the same: any_along's answer is whether some edge it offers (an edge filed in a cell the
+/// line's walk visits) has blocks true. Such an edge is a candidate (fan_candidates). A
+/// candidate with blocks true counts only if it is one of them: the grid files edge i in the
+/// cells of for_cells_along(a_i, b_i), and CellsAlong::visits says with the walk's own
+/// arithmetic whether the line visits one of those. (crossing_parameter alone is not enough:
+/// an edge nearly collinear with the line, beyond its end, can round to a crossing; the line's
+/// walk would never offer it.) The check walks the edge's few cells, and only for an edge
+/// that blocks.
+template <typename Ends, typename Blocks>
+bool blocked_among(const std::vector<std::uint32_t>& candidates, const PlanePoint& eye,
+                   const PlanePoint& target, Ends&& ends, Blocks&& blocks) {
+  for (const std::uint32_t i : candidates) {
+    if (!blocks(i)) continue;
+    const CellsAlong line(eye, target, EdgeGrid::kCellM);
+    const auto [a, b] = ends(i);
+    if (for_cells_along(a, b, EdgeGrid::kCellM,
+                        [&](std::int64_t c, std::int64_t r) { return line.visits(c, r); })) {
+      return true;
+    }
+  }
+  return false;
+}
 
 }  // namespace roadcross::preprocess::sight_detail
