@@ -781,7 +781,7 @@ TEST(FanCandidates, EveryLineGetsTheAnswerOfItsOwnWalk) {
       };
     };
     sd::Fan fan;
-    std::vector<std::uint32_t> fan_candidates;
+    std::vector<sd::CandidateEdge> fan_candidates;
     double seen_m = 0.0;
     for (std::size_t first = 1, n = 1 + std::size_t(k % 8); seen_m < end_m;) {
       const double last_m = std::min(double(first + n - 1) * 5.0, end_m);
@@ -797,17 +797,22 @@ TEST(FanCandidates, EveryLineGetsTheAnswerOfItsOwnWalk) {
         const PlanePoint target = path.at(d);
         const auto blocks = blocks_for(target);
         const bool want = grid.any_along(eye, target, blocks);
-        const bool got = sd::blocked_among(fan_candidates, eye, target, ends, blocks);
+        const auto blocks_candidate = [&](const sd::CandidateEdge& c) {
+          EXPECT_EQ(c.a.x, edges[c.id].a.x);  // the candidate's ends are the edge's
+          EXPECT_EQ(c.b.y, edges[c.id].b.y);
+          return blocks(c.id);
+        };
+        const bool got = sd::blocked_among(fan_candidates, eye, target, blocks_candidate);
         ASSERT_EQ(got, want) << k << " " << d;
         ++lines;
         hidden += want ? 1 : 0;
         // Lines that only one candidate blocks (dropping it would change the answer), and
         // candidates that cross the line in plan but lie in none of its cells.
         std::size_t blocking = 0;
-        for (const std::uint32_t i : fan_candidates) {
-          if (!blocks(i)) continue;
-          std::vector<std::uint32_t> one{i};
-          if (sd::blocked_among(one, eye, target, ends, blocks)) {
+        for (const sd::CandidateEdge& c : fan_candidates) {
+          if (!blocks(c.id)) continue;
+          const std::vector<sd::CandidateEdge> one{c};
+          if (sd::blocked_among(one, eye, target, blocks_candidate)) {
             ++blocking;
           } else {
             ++crossing_elsewhere;
@@ -845,19 +850,23 @@ TEST(FanCandidates, AnEdgeThatRoundsToACrossingBeyondTheLineDoesNotBlockIt) {
   sd::Fan fan;
   fan.reset(eye, {t, {2.5 * t.x, 2.5 * t.y}});
   const auto ends = [&](std::uint32_t i) { return std::pair{edges[i].a, edges[i].b}; };
-  std::vector<std::uint32_t> candidates;
+  std::vector<sd::CandidateEdge> candidates;
   sd::fan_candidates(grid, fan, ends, candidates);
-  EXPECT_EQ(candidates, (std::vector<std::uint32_t>{0}));
+  ASSERT_EQ(candidates.size(), 1u);
+  EXPECT_EQ(candidates[0].id, 0u);
   const auto crosses = [&](std::uint32_t i) {
     return !std::isnan(sd::crossing_parameter(sd::PlanLine(eye, t), edges[i].a, edges[i].b));
   };
-  EXPECT_FALSE(sd::blocked_among(candidates, eye, t, ends, crosses));
+  const auto by_id = [](const auto& test) {
+    return [&test](const sd::CandidateEdge& c) { return test(c.id); };
+  };
+  EXPECT_FALSE(sd::blocked_among(candidates, eye, t, by_id(crosses)));
   EXPECT_FALSE(grid.any_along(eye, t, crosses));
   // The line to the fan's far end passes through the edge's cells: there it counts.
   const PlanePoint far{2.5 * t.x, 2.5 * t.y};
   const auto crosses_far = [&](std::uint32_t i) {
     return !std::isnan(sd::crossing_parameter(sd::PlanLine(eye, far), edges[i].a, edges[i].b));
   };
-  EXPECT_EQ(sd::blocked_among(candidates, eye, far, ends, crosses_far),
+  EXPECT_EQ(sd::blocked_among(candidates, eye, far, by_id(crosses_far)),
             grid.any_along(eye, far, crosses_far));
 }

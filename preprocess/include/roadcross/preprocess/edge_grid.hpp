@@ -474,9 +474,16 @@ class Fan {
       const PlanePoint n{-(b.y - a.y), b.x - a.x};
       if (n.x != 0.0 || n.y != 0.0) axes_.push_back({n, 0.0, 0.0});
     }
-    std::sort(axes_.begin(), axes_.end(), [](const Axis& p, const Axis& q) {
-      return std::abs(p.n.x) + std::abs(p.n.y) > std::abs(q.n.x) + std::abs(q.n.y);
-    });
+    // (Insertion sort: a few axes, mostly three.)
+    for (std::size_t i = 1; i < axes_.size(); ++i) {
+      const Axis axis = axes_[i];
+      const double size = std::abs(axis.n.x) + std::abs(axis.n.y);
+      std::size_t j = i;
+      for (; j > 0 && std::abs(axes_[j - 1].n.x) + std::abs(axes_[j - 1].n.y) < size; --j) {
+        axes_[j] = axes_[j - 1];
+      }
+      axes_[j] = axis;
+    }
     axes_.push_back({{1.0, 0.0}, 0.0, 0.0});
     axes_.push_back({{0.0, 1.0}, 0.0, 0.0});
     for (Axis& axis : axes_) {
@@ -565,6 +572,13 @@ class Fan {
   std::vector<Axis> axes_;
 };
 
+/// An edge that may block a line of a fan: its id and its ends (read once per fan, not per
+/// line).
+struct CandidateEdge {
+  PlanePoint a, b;
+  std::uint32_t id = 0;
+};
+
 /// The obstacle edges that may block a line of `fan` (from its eye to a target Fan::reset
 /// allows), into `out`: those that EdgeGrid::any_in_polygon offers for the fan's hull and
 /// Fan::edge_clear does not clear. ends(i) gives edge i's ends as a pair of PlanePoints. Mostly
@@ -581,7 +595,7 @@ class Fan {
 /// here, and kept (an offer skipped by the 64 slots is an id judged before).
 template <typename Ends>
 void fan_candidates(const EdgeGrid& grid, const Fan& fan, Ends&& ends,
-                    std::vector<std::uint32_t>& out) {
+                    std::vector<CandidateEdge>& out) {
   out.clear();
   std::array<std::uint32_t, 64> judged;
   judged.fill(std::numeric_limits<std::uint32_t>::max());
@@ -590,16 +604,16 @@ void fan_candidates(const EdgeGrid& grid, const Fan& fan, Ends&& ends,
     if (slot == i) return false;
     slot = i;
     const auto [a, b] = ends(i);
-    if (!fan.edge_clear(a, b)) out.push_back(i);
+    if (!fan.edge_clear(a, b)) out.push_back({a, b, i});
     return false;  // every cell: all the candidates are wanted
   });
 }
 
-/// True when an edge any_along(eye, target, ...) offers has blocks(i) true: the same answer
-/// as EdgeGrid::any_along(eye, target, blocks), given `candidates` from fan_candidates for a fan
-/// from `eye` that allows `target`, and a `blocks` that is false whenever crossing_parameter
-/// (PlanLine(eye, target), a_i, b_i) is NaN (an edge the line does not cross in plan cannot
-/// block it). ends(i) as for fan_candidates.
+/// True when an edge any_along(eye, target, ...) offers has blocks(candidate) true: the same
+/// answer as EdgeGrid::any_along(eye, target, blocks of the id), given `candidates` from
+/// fan_candidates for a fan from `eye` that allows `target`, and a `blocks` that is false
+/// whenever crossing_parameter(PlanLine(eye, target), a, b) is NaN (an edge the line does not
+/// cross in plan cannot block it).
 ///
 /// Why the same: any_along's answer is whether some edge it offers (an edge filed in a cell the
 /// line's walk visits) has blocks true. Such an edge is a candidate (fan_candidates). A
@@ -609,15 +623,15 @@ void fan_candidates(const EdgeGrid& grid, const Fan& fan, Ends&& ends,
 /// an edge nearly collinear with the line, beyond its end, can round to a crossing; the line's
 /// walk would never offer it.) The check walks the edge's few cells, and only for an edge
 /// that blocks.
-template <typename Ends, typename Blocks>
-bool blocked_among(const std::vector<std::uint32_t>& candidates, const PlanePoint& eye,
-                   const PlanePoint& target, Ends&& ends, Blocks&& blocks) {
-  for (const std::uint32_t i : candidates) {
-    if (!blocks(i)) continue;
+template <typename Blocks>
+bool blocked_among(const std::vector<CandidateEdge>& candidates, const PlanePoint& eye,
+                   const PlanePoint& target, Blocks&& blocks) {
+  for (const CandidateEdge& c : candidates) {
+    if (!blocks(c)) continue;
     const CellsAlong line(eye, target, EdgeGrid::kCellM);
-    const auto [a, b] = ends(i);
-    if (for_cells_along(a, b, EdgeGrid::kCellM,
-                        [&](std::int64_t c, std::int64_t r) { return line.visits(c, r); })) {
+    if (for_cells_along(c.a, c.b, EdgeGrid::kCellM, [&](std::int64_t col, std::int64_t row) {
+          return line.visits(col, row);
+        })) {
       return true;
     }
   }
