@@ -462,9 +462,12 @@ class Fan {
     }
     reach_m_ += 2 * kOutlineSlackM;
     if (!triangle(eye, outline)) convex_hull(points_, hull_);
+    rel_hull_.clear();
+    for (const PlanePoint& v : hull_) rel_hull_.push_back({v.x - eye.x, v.y - eye.y});
     // Axes x, y and the hull's edge normals (not unit: a gap is asked for as kGapM |n|1 >=
-    // kGapM |n|), with the bounds every point (not only the hull's vertices) keeps along each,
-    // relative to the eye, widened by the gap.
+    // kGapM |n|), with the bounds every point keeps along each, relative to the eye, widened by
+    // the gap: those of the hull's vertices (every point is in their hull; a projection's
+    // rounding, < 1e-10 m, is inside kGapM's 1e-6 m), fewer than the points on a winding road.
     // The long sides first: a fan along a road is a thin wedge, and most edges near it lie
     // beside one of its two long sides.
     axes_.clear();
@@ -488,15 +491,13 @@ class Fan {
     axes_.push_back({{0.0, 1.0}, 0.0, 0.0});
     for (Axis& axis : axes_) {
       double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-      for (const PlanePoint& p : points_) {
-        const double d = axis.n.x * (p.x - eye.x) + axis.n.y * (p.y - eye.y);
+      for (const PlanePoint& v : rel_hull_) {
+        const double d = axis.n.x * v.x + axis.n.y * v.y;
         lo = std::min(lo, d), hi = std::max(hi, d);
       }
       const double gap = kGapM * (std::abs(axis.n.x) + std::abs(axis.n.y));
       axis.below = lo - gap, axis.above = hi + gap;
     }
-    rel_hull_.clear();
-    for (const PlanePoint& v : hull_) rel_hull_.push_back({v.x - eye.x, v.y - eye.y});
   }
 
   /// The hull of the eye and the outline (for EdgeGrid::any_in_polygon).
