@@ -146,6 +146,8 @@ class EdgeGrid {
   /// (every edge the segment crosses is among them); the cells are visited from a. An edge
   /// listed in two cells along the line is offered twice (remembering the edges offered cost
   /// more than the 12 % of repeated tests it saved on Monaco).
+  /// (The sight stage now tests each line against its fan's candidates, blocked_among; this
+  /// line-by-line walk gives the answer it must equal, and is the tests' reference.)
   template <typename Test>
   bool any_along(const PlanePoint& a, const PlanePoint& b, Test&& test) const {
     if (edges_.empty()) return false;
@@ -441,7 +443,7 @@ inline std::vector<PlanePoint> convex_hull(std::vector<PlanePoint> points) {
 /// u |s|1 M (5.4 |r|1 / kMarginM + 4.2) - the eye within ~1e-6 m of the edge's own line. edge_clear
 /// asks for both: kMarginM of separation (by separating axes: the hull's edge normals, x, y and the
 /// edge's normal) and |q x s| above 8 u |s|1 M (R1 / kMarginM + 2), R1 the largest |r|1 of the fan.
-/// It is conservative: a false answer only means "test the lines one by one".
+/// It is conservative: a false answer only makes the edge a candidate (fan_candidates).
 class Fan {
  public:
   /// Far above the rounding of coordinates (~1e-9 m at UTM's 1e7 m) and of the projections
