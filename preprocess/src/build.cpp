@@ -85,8 +85,9 @@ std::vector<std::string> run_sight_stage(const BuildOptions& options, RoadGraph&
   progress.finish_stage(
       std::to_string(report.segments) + " segments, " + std::to_string(report.limited) +
       " LIMITED_VISIBILITY, " + std::to_string(report.lines_of_sight) + " lines of sight, " +
-      std::to_string(report.fan_positions) + " positions in " + std::to_string(report.fans) +
-      " clear fans (" + std::to_string(report.fans_failed) + " not clear)");
+      std::to_string(report.fans) + " fans (" + std::to_string(report.clear_fans) + " clear, " +
+      std::to_string(report.fan_positions) + " positions settled at once; " +
+      std::to_string(report.candidate_edges) + " candidate edges)");
   std::vector<std::string> notes;
   notes.push_back("sight distance: " + std::to_string(report.limited) + " of " +
                   std::to_string(report.segments) + " segments LIMITED_VISIBILITY (" +

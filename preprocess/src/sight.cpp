@@ -228,28 +228,32 @@ class Scene {
     return std::isnan(z) ? fallback : z;
   }
 
-  bool visible(const Point3& eye, const Point3& target) const {
-    return !terrain_blocks(eye, target) && !obstacle_blocks(eye, target);
-  }
-
   bool has_terrain() const { return terrain_ != nullptr; }
 
-  /// True only when no obstacle edge blocks any line from `eye` to a target within the hull of
-  /// `eye` and `outline` (false: maybe one does; test the lines one by one). Fan explains why
-  /// the answer is the lines' own: every edge in the cells the lines would visit is shown to
-  /// miss all of them in plan.
-  bool obstacles_clear(Fan& fan, const Point3& eye, const std::vector<PlanePoint>& outline) const {
+  /// Edge i's two ends, for fan_candidates.
+  auto ends() const {
+    return [this](std::uint32_t i) { return std::pair{edges_.a(i), edges_.b(i)}; };
+  }
+
+  /// The obstacle edges that may block a line from `eye` to a target within the hull of `eye`
+  /// and `outline` (fan_candidates), into `out`; empty: no obstacle blocks any of them.
+  void candidates(Fan& fan, const Point3& eye, const std::vector<PlanePoint>& outline,
+                  std::vector<sight_detail::CandidateEdge>& out) const {
     fan.reset({eye.x, eye.y}, outline);
-    // An edge filed in several of the cells is tested once (mostly: the last edge seen at
-    // each of 64 slots is remembered).
-    std::array<std::uint32_t, 64> tested;
-    tested.fill(std::numeric_limits<std::uint32_t>::max());
-    return !grid_.any_in_polygon(fan.hull(), Fan::kMarginM, [&](std::uint32_t i) {
-      std::uint32_t& slot = tested[i & 63];
-      if (slot == i) return false;
-      slot = i;
-      return !fan.edge_clear(edges_.a(i), edges_.b(i));
-    });
+    sight_detail::fan_candidates(grid_, fan, ends(), out);
+  }
+
+  /// Whether the vehicle at `target` is seen from `eye`, for a target of the fan that gave
+  /// `candidates`: the same answer as testing the line against every edge of the cells along it
+  /// (blocked_among).
+  bool visible(const Point3& eye, const Point3& target,
+               const std::vector<sight_detail::CandidateEdge>& candidates) const {
+    if (terrain_blocks(eye, target)) return false;
+    if (candidates.empty()) return true;
+    const PlanLine line({eye.x, eye.y}, {target.x, target.y});
+    return !sight_detail::blocked_among(
+        candidates, {eye.x, eye.y}, {target.x, target.y},
+        [&](const sight_detail::CandidateEdge& c) { return edge_blocks(c, line, eye, target); });
   }
 
   /// The terrain, sampled every cell along the line (bilinear), rises to the line.
@@ -267,22 +271,15 @@ class Scene {
   }
 
  private:
-  /// The line passes through the opaque band of an obstacle edge it crosses in plan.
-  bool obstacle_blocks(const Point3& eye, const Point3& target) const {
-    const PlanLine line({eye.x, eye.y}, {target.x, target.y});
-    return grid_.any_along({eye.x, eye.y}, {target.x, target.y},
-                           [&](std::uint32_t i) { return edge_blocks(i, line, eye, target); });
-  }
-
   /// Edge i's band is looked up only once the line crosses it in plan (rarely).
-  bool edge_blocks(std::uint32_t i, const PlanLine& line, const Point3& eye,
+  bool edge_blocks(const sight_detail::CandidateEdge& c, const PlanLine& line, const Point3& eye,
                    const Point3& target) const {
-    const double t = crossing_parameter(line, edges_.a(i), edges_.b(i));
+    const double t = crossing_parameter(line, c.a, c.b);
     if (std::isnan(t)) return false;
     const double z = eye.z + t * (target.z - eye.z);
     const PlanePoint p{eye.x + t * (target.x - eye.x), eye.y + t * (target.y - eye.y)};
     const double base = ground(p, eye.ground_m + t * (target.ground_m - eye.ground_m));
-    const ObstacleEdge edge = edges_[i];
+    const ObstacleEdge edge = edges_[c.id];
     return z >= base + edge.bottom_m && z <= base + edge.top_m;
   }
 
@@ -293,10 +290,11 @@ class Scene {
 
 /// Counts of the work done, for the report.
 struct SightWork {
-  std::size_t lines = 0;      ///< lines of sight tested one by one
-  std::size_t fans = 0;       ///< fans found clear of obstacles
-  std::size_t fan_lines = 0;  ///< positions settled by them (each would have been a line)
-  std::size_t fans_failed = 0;
+  std::size_t lines = 0;          ///< lines of sight tested (against their fan's candidates)
+  std::size_t fans = 0;           ///< fans tried
+  std::size_t clear_fans = 0;     ///< of them without a candidate edge
+  std::size_t fan_positions = 0;  ///< positions settled by clear fans without testing a line
+  std::size_t candidates = 0;     ///< candidate edges of all the fans
 };
 
 /// How far along `path` a vehicle stays continuously visible from `eye`: stepping out by
@@ -304,22 +302,26 @@ struct SightWork {
 /// A road that ends (dead end) before the range hides no vehicle beyond: the answer is then the
 /// range.
 ///
-/// The positions are tried in fans: the lines to the next few positions at once
-/// (Scene::obstacles_clear). A clear fan makes all its positions visible as far as obstacles
-/// go (the terrain, when there is one, is still tested line by line); a fan that is not clear
-/// is halved and tried again, down to one line tested as before. A clear fan doubles the next
-/// one, up to kMaxFan. So the first hidden position, and the bisection after it, are the same
-/// as one line at a time, with fewer lines: on an open road 60 positions take ~6 fans.
+/// The positions are tried in fans: the next few positions at once. The fan is the hull of the
+/// eye and the path from the last position seen (seen_m_) to the fan's last one; its candidate
+/// edges (Scene::candidates) are the only ones that can block a line to a point of the path in
+/// between, so each position's line, and each line of the bisection (its positions lie between
+/// seen_m_ and the first hidden one), is tested against them alone, with the answer of a test
+/// against every edge along the line. A fan without candidates settles all its positions at
+/// once when there is no terrain (with a terrain their lines are still tested for it). So the
+/// first hidden position and the bisection are the same as one line at a time, without the
+/// walk through the grid per line.
 class KerbSearch {
  public:
   KerbSearch(const Scene& scene, const Path& path, const Point3& eye, const SightParameters& p,
-             SightWork& work, Fan& fan)
+             SightWork& work, Fan& fan, std::vector<sight_detail::CandidateEdge>& candidates)
       : scene_(scene),
         cursor_(path),
         eye_(eye),
         p_(p),
         work_(work),
         fan_(fan),
+        candidates_(candidates),
         end_m_(std::min(p.range_m, path.length_m())),
         done_(!(seen_m_ < end_m_)),
         answer_m_(p.range_m) {}
@@ -327,19 +329,45 @@ class KerbSearch {
   bool done() const { return done_; }
   double answer_m() const { return answer_m_; }  ///< once done()
 
-  /// Tries the next fan of positions, or the next position (and bisects when one is hidden).
-  /// Positions beyond the first one at or past limit_m are left for later (answer_up_to asks
-  /// no further). Only while !done().
+  /// Tries the next fan of positions (and bisects when one is hidden). Positions beyond the
+  /// first one at or past limit_m are left for later (answer_up_to asks no further). Only
+  /// while !done().
   void step(double limit_m = std::numeric_limits<double>::infinity()) {
-    if (lines_left_ == 0 && step_fan(limit_m)) return;
-    const double d_m = std::min(double(k_++) * p_.step_m, end_m_);
-    if (lines_left_ > 0) --lines_left_;
-    if (visible(d_m)) {
-      seen_m_ = d_m;
-      done_ = !(seen_m_ < end_m_);  // answer_m_ stays the range
+    std::size_t n = 0;  // positions in the fan: k_, k_ + 1, ...
+    for (double d_m = 0.0; n < fan_size_;) {
+      d_m = position_m(k_ + n++);
+      if (!(d_m < end_m_) || d_m >= limit_m) break;
+    }
+    // The points at(d) for d from seen_m_ (the position before k_) to the fan's last position
+    // lie in the hull of at(seen_m_), the path's vertices between and at(last_m) (to 1e-8 m,
+    // which the fan allows): a straight road gives a triangle with the eye.
+    const double last_m = position_m(k_ + n - 1);
+    outline_.clear();
+    outline_.push_back(cursor_.at(seen_m_));
+    cursor_.vertices_between(seen_m_, last_m, outline_);
+    outline_.push_back(cursor_.at(last_m));
+    scene_.candidates(fan_, eye_, outline_, candidates_);
+    ++work_.fans;
+    work_.candidates += candidates_.size();
+    fan_size_ = std::min(2 * fan_size_, kMaxFan);
+    if (candidates_.empty() && !scene_.has_terrain()) {
+      ++work_.clear_fans;
+      work_.fan_positions += n;
+      k_ += n;
+      seen_m_ = last_m;
+      done_ = !(seen_m_ < end_m_);
       return;
     }
-    bisect(d_m);
+    work_.clear_fans += candidates_.empty() ? 1 : 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double d_m = position_m(k_++);
+      if (!visible(d_m)) {
+        bisect(d_m);
+        return;
+      }
+      seen_m_ = d_m;
+    }
+    done_ = !(seen_m_ < end_m_);  // answer_m_ stays the range
   }
 
   /// min(cap_m, the answer). Once the vehicle is seen as far as cap_m the answer cannot be
@@ -353,13 +381,12 @@ class KerbSearch {
   }
 
  private:
-  /// A fan costs about as much as six lines (Monaco: ~6 600 instructions, a line ~1 200), and
-  /// the first lines are short: the first kFirstLines positions go one by one, fans have 16 or
-  /// 32 positions, and a fan of 16 that is not clear is followed by 16 lines. Monaco's counts
-  /// for the smallest fan 4, 8, 16, 32: 1.13, 1.76, 2.03, 2.47 M lines and 0.64, 0.40, 0.29,
-  /// 0.17 M fans; callgrind: 7.69 G for the whole build, against 7.74 G with fans of 8-32 (and
-  /// without the cap below).
-  static constexpr std::size_t kMinFan = 16, kMaxFan = 32, kFirstLines = 8;
+  /// Fans of kFirstFan positions first, each next one twice as large up to kMaxFan: at the
+  /// default 5 m step an open road's 60 positions take 3 fans (12, 24, 24). A fan costs ~4 000
+  /// instructions (its hull, the edges under it), a line tested against candidates ~600.
+  /// Monaco, callgrind, whole build (first-max): 12-48 6.30 G; 10-50 6.36; 8-32 6.58; 16-48
+  /// 6.60; 20-40 6.98; 8-32 growing 4x 6.82, 12-48 growing 3x 7.00.
+  static constexpr std::size_t kFirstFan = 12, kMaxFan = 48;
 
   /// The position `index` steps out (clamped to the end).
   double position_m(std::size_t index) const { return std::min(double(index) * p_.step_m, end_m_); }
@@ -370,50 +397,7 @@ class KerbSearch {
     return Point3{q.x, q.y, g + p_.object_height_m, g};
   }
 
-  /// Tries positions k_.. as one fan. True: this step is taken (the fan's positions settled,
-  /// or a fan that was not clear halved for the next step); false: test the next position one
-  /// by one (a single position left, or the smallest fan was not clear: then kMinFan lines).
-  bool step_fan(double limit_m) {
-    std::size_t n = 0;  // positions in the fan: k_, k_ + 1, ...
-    for (double d_m = 0.0; n < fan_size_;) {
-      d_m = position_m(k_ + n++);
-      if (!(d_m < end_m_) || d_m >= limit_m) break;
-    }
-    if (n < 2) return false;
-    // The fan's targets all lie in the hull of the first, the path's vertices between and the
-    // last (to 1e-8 m, which the fan's margin covers): a straight road gives a triangle.
-    const double first_m = position_m(k_), last_m = position_m(k_ + n - 1);
-    fan_outline_.clear();
-    fan_outline_.push_back(cursor_.at(first_m));
-    cursor_.vertices_between(first_m, last_m, fan_outline_);
-    fan_outline_.push_back(cursor_.at(last_m));
-    if (!scene_.obstacles_clear(fan_, eye_, fan_outline_)) {
-      ++work_.fans_failed;
-      // What stopped this fan is still ahead: later fans stay smaller than it.
-      fan_cap_ = std::max(kMinFan, fan_size_ / 2);
-      if (fan_size_ > kMinFan) {
-        fan_size_ /= 2;
-        return true;  // no position settled; the next step tries the smaller fan
-      }
-      lines_left_ = kMinFan;  // the next positions one by one, then fans again
-      return false;
-    }
-    ++work_.fans;
-    for (std::size_t i = 0; i < n; ++i) {
-      const double d_m = position_m(k_++);
-      ++work_.fan_lines;
-      if (scene_.has_terrain() && scene_.terrain_blocks(eye_, target(d_m))) {
-        bisect(d_m);
-        return true;
-      }
-      seen_m_ = d_m;
-    }
-    done_ = !(seen_m_ < end_m_);
-    fan_size_ = std::min(2 * fan_size_, fan_cap_);
-    return true;
-  }
-
-  /// Bisects between seen_m_ and the first hidden position, hidden_m.
+  /// Bisects between seen_m_ and the first hidden position, hidden_m (both in the last fan).
   void bisect(double hidden_m) {
     for (int i = 0; i < 6; ++i) {  // step / 64: 8 cm at the default step
       const double mid_m = 0.5 * (seen_m_ + hidden_m);
@@ -422,9 +406,10 @@ class KerbSearch {
     answer_m_ = seen_m_, done_ = true;
   }
 
+  /// For a position between seen_m_ and the last fan's last position.
   bool visible(double d_m) {
     ++work_.lines;
-    return scene_.visible(eye_, target(d_m));
+    return scene_.visible(eye_, target(d_m), candidates_);
   }
 
   const Scene& scene_;
@@ -433,10 +418,9 @@ class KerbSearch {
   const SightParameters& p_;
   SightWork& work_;
   Fan& fan_;
-  std::vector<PlanePoint> fan_outline_;   ///< points whose hull holds the fan's targets
-  std::size_t fan_size_ = kMinFan;        ///< positions in the next fan
-  std::size_t fan_cap_ = kMaxFan;         ///< the largest fan still worth trying
-  std::size_t lines_left_ = kFirstLines;  ///< positions to test one by one before the next fan
+  std::vector<sight_detail::CandidateEdge>& candidates_;  ///< the last fan's
+  std::vector<PlanePoint> outline_;   ///< points whose hull holds the fan's targets
+  std::size_t fan_size_ = kFirstFan;  ///< positions in the next fan
   const double end_m_;
   std::size_t k_ = 1;    ///< the next step
   double seen_m_ = 0.0;  ///< the vehicle is seen at every position tried up to here
@@ -475,7 +459,8 @@ struct Context {
 
 /// Both directions from both kerbs of segment s; each direction keeps its worse kerb (the
 /// robot may arrive on either side).
-void sight_of_segment(const Context& c, Segment& s, SightWork& work, Fan& fan) {
+void sight_of_segment(const Context& c, Segment& s, SightWork& work, Fan& fan,
+                      std::vector<sight_detail::CandidateEdge>& candidates) {
   const RoadPiece& piece = c.graph.pieces[s.piece_index];
   const std::vector<double>& cum = c.cumulative[s.piece_index];
   const double pos_m =
@@ -501,8 +486,10 @@ void sight_of_segment(const Context& c, Segment& s, SightWork& work, Fan& fan) {
     eyes[i] = Point3{kerb.x, kerb.y, g + c.p.sensor_height_m, g};
   }
   const auto worse_m = [&](const Path& path) {
-    KerbSearch left(c.scene, path, eyes[0], c.p, work, fan);
-    KerbSearch right(c.scene, path, eyes[1], c.p, work, fan);
+    // The kerbs take turns, each step computing its fan and candidates and using them before
+    // it returns: the two share the buffers.
+    KerbSearch left(c.scene, path, eyes[0], c.p, work, fan, candidates);
+    KerbSearch right(c.scene, path, eyes[1], c.p, work, fan, candidates);
     return worse_kerb_m(left, right);
   };
   const double forward_m = worse_m(ahead), backward_m = worse_m(behind);
@@ -525,20 +512,22 @@ SightReport compute_sight(RoadGraph& graph, const Grid* terrain, const ObstacleE
 
   // Dense streets take much longer than open roads: threads take small chunks in turn.
   constexpr std::size_t kChunk = 64;
-  std::atomic<std::size_t> next{0}, tests{0}, fans{0}, fan_lines{0}, fans_failed{0};
+  std::atomic<std::size_t> next{0}, tests{0}, fans{0}, clear_fans{0}, fan_positions{0},
+      candidates{0};
   const auto work = [&] {
     SightWork my_work;
     Fan fan;  // reused by every fan the thread tries
+    std::vector<sight_detail::CandidateEdge> fan_candidates;
     for (std::size_t begin; (begin = next.fetch_add(kChunk)) < graph.segments.size();) {
       const std::size_t end = std::min(begin + kChunk, graph.segments.size());
       for (std::size_t i = begin; i < end; ++i) {
         Segment& s = graph.segments[i];
         // A tunnel is never crossed (TUNNEL) and the terrain above it would hide everything.
-        if (!s.tunnel) sight_of_segment(context, s, my_work, fan);
+        if (!s.tunnel) sight_of_segment(context, s, my_work, fan, fan_candidates);
       }
     }
-    tests += my_work.lines, fans += my_work.fans, fan_lines += my_work.fan_lines;
-    fans_failed += my_work.fans_failed;
+    tests += my_work.lines, fans += my_work.fans, clear_fans += my_work.clear_fans;
+    fan_positions += my_work.fan_positions, candidates += my_work.candidates;
   };
   const unsigned threads = std::clamp(std::thread::hardware_concurrency(), 1u, 16u);
   std::vector<std::thread> pool;
@@ -549,8 +538,9 @@ SightReport compute_sight(RoadGraph& graph, const Grid* terrain, const ObstacleE
   SightReport report;
   report.lines_of_sight = tests;
   report.fans = fans;
-  report.fan_positions = fan_lines;
-  report.fans_failed = fans_failed;
+  report.clear_fans = clear_fans;
+  report.fan_positions = fan_positions;
+  report.candidate_edges = candidates;
   for (const Segment& s : graph.segments) {
     report.skipped_tunnels += s.tunnel ? 1 : 0;
     report.segments += s.sight_min_m ? 1 : 0;

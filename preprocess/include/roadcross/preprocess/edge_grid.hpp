@@ -6,6 +6,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -32,22 +33,33 @@ inline std::int64_t floor_to_int(double x) {
   return static_cast<double>(t) > x ? t - 1 : t;
 }
 
-/// Calls visit(ix, iy) for every square cell of side `cell_m` that the segment a->b passes
-/// through, starting at a's end, until visit returns true (then returns true). Row by row: the
-/// part of the segment inside each row of cells gives the columns. Every interval is widened by
-/// kSlack cells, so a point of the segment is always in a visited cell despite rounding.
-/// (Multiplying by the reciprocal of the height instead of the two divisions per row, with the
-/// divisions only near cell boundaries, gave the same cells but no measurable gain.)
-template <typename Visit>
-bool for_cells_along(const PlanePoint& a, const PlanePoint& b, double cell_m, Visit&& visit) {
-  constexpr double kSlack = 1e-6;  // in cells: 16 micrometres at 16 m
-  const double ax = a.x / cell_m, ay = a.y / cell_m, bx = b.x / cell_m, by = b.y / cell_m;
-  const double y_min = std::min(ay, by), y_max = std::max(ay, by);
-  const bool up = by >= ay, right = bx >= ax;
-  const std::int64_t first_row = floor_to_int((up ? y_min : y_max) + (up ? -kSlack : kSlack));
-  const std::int64_t last_row = floor_to_int((up ? y_max : y_min) + (up ? kSlack : -kSlack));
-  const std::int64_t row_step = up ? 1 : -1;
-  for (std::int64_t row = first_row;; row += row_step) {
+/// The square cells of side `cell_m` that the segment a->b passes through, as for_cells_along
+/// visits them: rows first_row..last_row (upwards or downwards), in each row the columns
+/// columns() gives. Row by row: the part of the segment inside each row of cells gives the
+/// columns. Every interval is widened by kSlack cells, so a point of the segment is always in a
+/// visited cell despite rounding (and so is every point within ~kSlack cells of it). visits()
+/// answers for one cell with the walk's own arithmetic (the fans' candidate edges ask whether
+/// an edge is filed in a cell a line visits; see fan_candidates).
+struct CellsAlong {
+  static constexpr double kSlack = 1e-6;  // in cells: 16 micrometres at 16 m
+  double ax, ay, bx, by;                  ///< the ends, in cells
+  bool up, right;                         ///< the walk's directions
+  std::int64_t first_row, last_row;
+
+  CellsAlong(const PlanePoint& a, const PlanePoint& b, double cell_m)
+      : ax(a.x / cell_m),
+        ay(a.y / cell_m),
+        bx(b.x / cell_m),
+        by(b.y / cell_m),
+        up(by >= ay),
+        right(bx >= ax) {
+    const double y_min = std::min(ay, by), y_max = std::max(ay, by);
+    first_row = floor_to_int((up ? y_min : y_max) + (up ? -kSlack : kSlack));
+    last_row = floor_to_int((up ? y_max : y_min) + (up ? kSlack : -kSlack));
+  }
+
+  /// The columns c0..c1 of row `row` (one of the rows above).
+  void columns(std::int64_t row, std::int64_t& c0, std::int64_t& c1) const {
     double x0 = std::min(ax, bx), x1 = std::max(ax, bx);
     if (by != ay) {
       // The segment's x at the row's lower and upper edges, clamped to the segment.
@@ -57,9 +69,33 @@ bool for_cells_along(const PlanePoint& a, const PlanePoint& b, double cell_m, Vi
       x1 = ax + t1 * (bx - ax);
       if (x0 > x1) std::swap(x0, x1);
     }
-    const std::int64_t c0 = floor_to_int(x0 - kSlack);
-    const std::int64_t c1 = floor_to_int(x1 + kSlack);
-    if (right) {
+    c0 = floor_to_int(x0 - kSlack);
+    c1 = floor_to_int(x1 + kSlack);
+  }
+
+  /// True when the walk visits cell (column, row).
+  bool visits(std::int64_t column, std::int64_t row) const {
+    if (up ? (row < first_row || row > last_row) : (row > first_row || row < last_row)) {
+      return false;
+    }
+    std::int64_t c0 = 0, c1 = 0;
+    columns(row, c0, c1);
+    return c0 <= column && column <= c1;
+  }
+};
+
+/// Calls visit(ix, iy) for every cell of CellsAlong(a, b, cell_m), starting at a's end, until
+/// visit returns true (then returns true).
+/// (Multiplying by the reciprocal of the height instead of the two divisions per row, with the
+/// divisions only near cell boundaries, gave the same cells but no measurable gain.)
+template <typename Visit>
+bool for_cells_along(const PlanePoint& a, const PlanePoint& b, double cell_m, Visit&& visit) {
+  const CellsAlong cells(a, b, cell_m);
+  const std::int64_t row_step = cells.up ? 1 : -1;
+  for (std::int64_t row = cells.first_row;; row += row_step) {
+    std::int64_t c0 = 0, c1 = 0;
+    cells.columns(row, c0, c1);
+    if (cells.right) {
       for (std::int64_t c = c0; c <= c1; ++c) {
         if (visit(c, row)) return true;
       }
@@ -68,7 +104,7 @@ bool for_cells_along(const PlanePoint& a, const PlanePoint& b, double cell_m, Vi
         if (visit(c, row)) return true;
       }
     }
-    if (row == last_row) return false;
+    if (row == cells.last_row) return false;
   }
 }
 
@@ -116,6 +152,8 @@ class EdgeGrid {
   /// (every edge the segment crosses is among them); the cells are visited from a. An edge
   /// listed in two cells along the line is offered twice (remembering the edges offered cost
   /// more than the 12 % of repeated tests it saved on Monaco).
+  /// (The sight stage now tests each line against its fan's candidates, blocked_among; this
+  /// line-by-line walk gives the answer it must equal, and is the tests' reference.)
   template <typename Test>
   bool any_along(const PlanePoint& a, const PlanePoint& b, Test&& test) const {
     if (edges_.empty()) return false;
@@ -414,7 +452,7 @@ inline std::vector<PlanePoint> convex_hull(std::vector<PlanePoint> points) {
 /// u |s|1 M (5.4 |r|1 / kMarginM + 4.2) - the eye within ~1e-6 m of the edge's own line. edge_clear
 /// asks for both: kMarginM of separation (by separating axes: the hull's edge normals, x, y and the
 /// edge's normal) and |q x s| above 8 u |s|1 M (R1 / kMarginM + 2), R1 the largest |r|1 of the fan.
-/// It is conservative: a false answer only means "test the lines one by one".
+/// It is conservative: a false answer only makes the edge a candidate (fan_candidates).
 class Fan {
  public:
   /// Far above the rounding of coordinates (~1e-9 m at UTM's 1e7 m) and of the projections
@@ -435,9 +473,12 @@ class Fan {
     }
     reach_m_ += 2 * kOutlineSlackM;
     if (!triangle(eye, outline)) convex_hull(points_, hull_);
+    rel_hull_.clear();
+    for (const PlanePoint& v : hull_) rel_hull_.push_back({v.x - eye.x, v.y - eye.y});
     // Axes x, y and the hull's edge normals (not unit: a gap is asked for as kGapM |n|1 >=
-    // kGapM |n|), with the bounds every point (not only the hull's vertices) keeps along each,
-    // relative to the eye, widened by the gap.
+    // kGapM |n|), with the bounds every point keeps along each, relative to the eye, widened by
+    // the gap: those of the hull's vertices (every point is in their hull; a projection's
+    // rounding, < 1e-10 m, is inside kGapM's 1e-6 m), fewer than the points on a winding road.
     // The long sides first: a fan along a road is a thin wedge, and most edges near it lie
     // beside one of its two long sides.
     axes_.clear();
@@ -447,22 +488,27 @@ class Fan {
       const PlanePoint n{-(b.y - a.y), b.x - a.x};
       if (n.x != 0.0 || n.y != 0.0) axes_.push_back({n, 0.0, 0.0});
     }
-    std::sort(axes_.begin(), axes_.end(), [](const Axis& p, const Axis& q) {
-      return std::abs(p.n.x) + std::abs(p.n.y) > std::abs(q.n.x) + std::abs(q.n.y);
-    });
+    // (Insertion sort: a few axes, mostly three.)
+    for (std::size_t i = 1; i < axes_.size(); ++i) {
+      const Axis axis = axes_[i];
+      const double size = std::abs(axis.n.x) + std::abs(axis.n.y);
+      std::size_t j = i;
+      for (; j > 0 && std::abs(axes_[j - 1].n.x) + std::abs(axes_[j - 1].n.y) < size; --j) {
+        axes_[j] = axes_[j - 1];
+      }
+      axes_[j] = axis;
+    }
     axes_.push_back({{1.0, 0.0}, 0.0, 0.0});
     axes_.push_back({{0.0, 1.0}, 0.0, 0.0});
     for (Axis& axis : axes_) {
       double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-      for (const PlanePoint& p : points_) {
-        const double d = axis.n.x * (p.x - eye.x) + axis.n.y * (p.y - eye.y);
+      for (const PlanePoint& v : rel_hull_) {
+        const double d = axis.n.x * v.x + axis.n.y * v.y;
         lo = std::min(lo, d), hi = std::max(hi, d);
       }
       const double gap = kGapM * (std::abs(axis.n.x) + std::abs(axis.n.y));
       axis.below = lo - gap, axis.above = hi + gap;
     }
-    rel_hull_.clear();
-    for (const PlanePoint& v : hull_) rel_hull_.push_back({v.x - eye.x, v.y - eye.y});
   }
 
   /// The hull of the eye and the outline (for EdgeGrid::any_in_polygon).
@@ -537,5 +583,71 @@ class Fan {
   std::vector<PlanePoint> hull_, rel_hull_;
   std::vector<Axis> axes_;
 };
+
+/// An edge that may block a line of a fan: its id and its ends (read once per fan, not per
+/// line).
+struct CandidateEdge {
+  PlanePoint a, b;
+  std::uint32_t id = 0;
+};
+
+/// The obstacle edges that may block a line of `fan` (from its eye to a target Fan::reset
+/// allows), into `out`: those that EdgeGrid::any_in_polygon offers for the fan's hull and
+/// Fan::edge_clear does not clear. ends(i) gives edge i's ends as a pair of PlanePoints. Mostly
+/// each once (an edge in several cells is judged once; the last id seen at each of 64 slots is
+/// remembered), sometimes twice, which blocked_among does not mind.
+///
+/// Why every edge that matters is among them: for a line L of the fan (eye -> target t, t
+/// within Fan::kOutlineSlackM of the hull), an edge i that any_along(L) offers and that can
+/// block L has crossing_parameter(L, a_i, b_i) not NaN (see blocked_among), so edge_clear
+/// is false for it (the Fan's proof); and any_along(L) offers only edges filed in cells
+/// for_cells_along(eye, t) visits, which any_in_polygon(hull, kMarginM) visits too: L lies in
+/// the hull widened by 1e-7 m, far inside the 1 mm margin, and any_in_polygon's rows and
+/// columns cover the hull widened by the margin and for_cells_along's slack. So i is offered
+/// here, and kept (an offer skipped by the 64 slots is an id judged before).
+template <typename Ends>
+void fan_candidates(const EdgeGrid& grid, const Fan& fan, Ends&& ends,
+                    std::vector<CandidateEdge>& out) {
+  out.clear();
+  std::array<std::uint32_t, 64> judged;
+  judged.fill(std::numeric_limits<std::uint32_t>::max());
+  grid.any_in_polygon(fan.hull(), Fan::kMarginM, [&](std::uint32_t i) {
+    std::uint32_t& slot = judged[i & 63];
+    if (slot == i) return false;
+    slot = i;
+    const auto [a, b] = ends(i);
+    if (!fan.edge_clear(a, b)) out.push_back({a, b, i});
+    return false;  // every cell: all the candidates are wanted
+  });
+}
+
+/// True when an edge any_along(eye, target, ...) offers has blocks(candidate) true: the same
+/// answer as EdgeGrid::any_along(eye, target, blocks of the id), given `candidates` from
+/// fan_candidates for a fan from `eye` that allows `target`, and a `blocks` that is false
+/// whenever crossing_parameter(PlanLine(eye, target), a, b) is NaN (an edge the line does not
+/// cross in plan cannot block it).
+///
+/// Why the same: any_along's answer is whether some edge it offers (an edge filed in a cell the
+/// line's walk visits) has blocks true. Such an edge is a candidate (fan_candidates). A
+/// candidate with blocks true counts only if it is one of them: the grid files edge i in the
+/// cells of for_cells_along(a_i, b_i), and CellsAlong::visits says with the walk's own
+/// arithmetic whether the line visits one of those. (crossing_parameter alone is not enough:
+/// an edge nearly collinear with the line, beyond its end, can round to a crossing; the line's
+/// walk would never offer it.) The check walks the edge's few cells, and only for an edge
+/// that blocks.
+template <typename Blocks>
+bool blocked_among(const std::vector<CandidateEdge>& candidates, const PlanePoint& eye,
+                   const PlanePoint& target, Blocks&& blocks) {
+  for (const CandidateEdge& c : candidates) {
+    if (!blocks(c)) continue;
+    const CellsAlong line(eye, target, EdgeGrid::kCellM);
+    if (for_cells_along(c.a, c.b, EdgeGrid::kCellM, [&](std::int64_t col, std::int64_t row) {
+          return line.visits(col, row);
+        })) {
+      return true;
+    }
+  }
+  return false;
+}
 
 }  // namespace roadcross::preprocess::sight_detail

@@ -123,10 +123,13 @@ struct SightReport {
   std::size_t segments = 0;         ///< segments with a sight distance
   std::size_t limited = 0;          ///< of them LIMITED_VISIBILITY
   std::size_t skipped_tunnels = 0;  ///< tunnel segments (no sight computed)
-  std::size_t lines_of_sight = 0;   ///< visibility tests made one line at a time
-  std::size_t fans = 0;             ///< fans of lines found clear of obstacles at once
-  std::size_t fan_positions = 0;    ///< vehicle positions they settled (lines not tested)
-  std::size_t fans_failed = 0;      ///< fans that were not (halved and tried again)
+  /// Lines of sight tested one by one (vehicle positions and the bisection), each against its
+  /// fan's candidate edges (and the terrain).
+  std::size_t lines_of_sight = 0;
+  std::size_t fans = 0;             ///< fans of consecutive positions tried
+  std::size_t clear_fans = 0;       ///< of them without a candidate edge
+  std::size_t fan_positions = 0;    ///< positions clear fans settled without a line (no terrain)
+  std::size_t candidate_edges = 0;  ///< the fans' candidate edges (that may block a line)
 };
 
 /// Fills the sight fields of every segment (run after terrain and context). `terrain` is the
