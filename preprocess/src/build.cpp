@@ -87,7 +87,9 @@ std::vector<std::string> run_sight_stage(const BuildOptions& options, RoadGraph&
       " LIMITED_VISIBILITY, " + std::to_string(report.lines_of_sight) + " lines of sight, " +
       std::to_string(report.fans) + " fans (" + std::to_string(report.clear_fans) + " clear, " +
       std::to_string(report.fan_positions) + " positions settled at once; " +
-      std::to_string(report.candidate_edges) + " candidate edges)");
+      std::to_string(report.candidate_edges) + " candidate edges); " +
+      std::to_string(report.open_directions) + " of " +
+      std::to_string(report.open_directions_tried) + " directions tried open to both kerbs");
   std::vector<std::string> notes;
   notes.push_back("sight distance: " + std::to_string(report.limited) + " of " +
                   std::to_string(report.segments) + " segments LIMITED_VISIBILITY (" +

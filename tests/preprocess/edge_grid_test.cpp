@@ -963,3 +963,104 @@ TEST(FanCandidates, AnEdgeThatRoundsToACrossingBeyondTheLineDoesNotBlockIt) {
   EXPECT_EQ(sd::blocked_among(candidates, eye, far, by_id(crosses_far)),
             grid.any_along(eye, far, crosses_far));
 }
+
+TEST(OpenToBoth, NoLineFromEitherKerbCrossesAnEdgeWhenOpen) {
+  // Random roads (straight or curved) with a kerb on each side (sometimes one on the road's
+  // own line) and a few edges near lines from either kerb: anywhere near, 0-5 mm beside a
+  // line, on the line through a kerb and a position (beyond its ends), across a line. When
+  // open_to_both says open, the walk of every line from either kerb to a position (every 5 m)
+  // or to a random point of the road offers no edge that crosses it in plan: no obstacle can
+  // block it, which is what lets the sight stage skip the search. (A left fan whose hull leaves
+  // out the right kerb fails here; dropping the right fan's own check does not: that check is
+  // the Fan's rounding guard for the right kerb, which random edges do not reach.)
+  std::mt19937_64 rng(37);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), unit(0.0, 1.0);
+  std::size_t open = 0, closed = 0, open_with_grazing = 0, lines = 0;
+  for (int k = 0; k < 6000; ++k) {
+    TestPath path;
+    const PlanePoint start{731232.0 + 500 * u(rng), 4849872.0 + 500 * u(rng)};
+    double heading = 3.2 * u(rng);
+    const double turn = k % 3 == 0 ? 0.0 : 0.1 * u(rng);
+    PlanePoint p = start;
+    path.points.push_back(p), path.at_m.push_back(0.0);
+    for (int j = 0; j < 8; ++j) {
+      const double leg = 10 + 30 * unit(rng);
+      p = {p.x + leg * std::cos(heading), p.y + leg * std::sin(heading)};
+      path.points.push_back(p), path.at_m.push_back(path.at_m.back() + leg);
+      heading += turn;
+    }
+    const double h0 = std::atan2(path.points[1].y - start.y, path.points[1].x - start.x);
+    const double half_width = k % 7 == 0 ? 0.0 : 1 + 4 * unit(rng);  // 0: a kerb on the line
+    const PlanePoint left{start.x - half_width * std::sin(h0), start.y + half_width * std::cos(h0)};
+    const PlanePoint right{start.x + 3 * std::sin(h0), start.y - 3 * std::cos(h0)};
+    const double end_m = path.at_m.back();
+    std::vector<rp::ObstacleEdge> edges;
+    bool grazing = false;
+    for (int e = 0, n = k % 4; e < n; ++e) {
+      const PlanePoint& eye = unit(rng) < 0.5 ? left : right;
+      const PlanePoint t = path.at(end_m * unit(rng));
+      const double along = 1.2 * unit(rng);
+      const PlanePoint on{eye.x + along * (t.x - eye.x), eye.y + along * (t.y - eye.y)};
+      const double len = std::hypot(t.x - eye.x, t.y - eye.y);
+      const double nx = -(t.y - eye.y) / len, ny = (t.x - eye.x) / len;
+      PlanePoint a, b;
+      switch (e % 4) {
+        case 0:  // anywhere near, mostly well off the road
+          a = {on.x + 60 * u(rng), on.y + 60 * u(rng)};
+          b = {a.x + 10 * u(rng), a.y + 10 * u(rng)};
+          break;
+        case 1: {  // an end 0-5 mm beside the line, pointing away from it
+          const double off = 0.005 * u(rng);
+          a = {on.x + off * nx, on.y + off * ny};
+          const double away = off < 0 ? -1.0 : 1.0;
+          b = {a.x + 5 * away * nx, a.y + 5 * away * ny};
+          grazing = true;
+          break;
+        }
+        case 2: {  // on the line through the kerb and a position, beyond either end
+          const double s = unit(rng) < 0.5 ? -0.5 * unit(rng) : 1.0 + 0.5 * unit(rng);
+          const double s2 = s + (s < 0 ? -0.2 : 0.2) * unit(rng);
+          a = {eye.x + s * (t.x - eye.x), eye.y + s * (t.y - eye.y)};
+          b = {eye.x + s2 * (t.x - eye.x), eye.y + s2 * (t.y - eye.y)};
+          grazing = true;
+          break;
+        }
+        default: {  // across the line
+          const double l = 2 * unit(rng);
+          a = {on.x - l * nx, on.y - l * ny}, b = {on.x + l * nx, on.y + l * ny};
+          break;
+        }
+      }
+      edges.push_back(edge(a.x, a.y, b.x, b.y));
+    }
+    const sd::EdgeGrid grid(edges);
+    const auto ends = [&](std::uint32_t i) { return std::pair{edges[i].a, edges[i].b}; };
+    sd::Fan from_left, from_right;
+    std::vector<PlanePoint> outline = path.outline(0.0, end_m);
+    if (!sd::open_to_both(grid, from_left, from_right, left, right, outline, ends)) {
+      ++closed;
+      continue;
+    }
+    ++open;
+    open_with_grazing += grazing ? 1 : 0;
+    std::vector<double> positions;
+    for (double d = 0.0; d < end_m; d += 5.0) positions.push_back(d);
+    positions.push_back(end_m);
+    for (int j = 0; j < 20; ++j) positions.push_back(end_m * unit(rng));
+    for (const PlanePoint& eye : {left, right}) {
+      for (const double d : positions) {
+        const PlanePoint target = path.at(d);
+        const bool crossed = grid.any_along(eye, target, [&](std::uint32_t i) {
+          return !std::isnan(
+              sd::crossing_parameter(sd::PlanLine(eye, target), edges[i].a, edges[i].b));
+        });
+        ASSERT_FALSE(crossed) << k << " " << d;
+        ++lines;
+      }
+    }
+  }
+  EXPECT_GT(open, 2000u);  // both answers well represented
+  EXPECT_GT(closed, 2000u);
+  EXPECT_GT(open_with_grazing, 100u);  // edges a few mm from a line, or on its line, were open
+  EXPECT_GT(lines, 50000u);
+}

@@ -464,15 +464,37 @@ class Fan {
   /// The fan from `eye` to targets that lie in the hull of `eye` and `outline` (at least one
   /// point), or within kOutlineSlackM of it. Allocates only while the buffers grow.
   void reset(const PlanePoint& eye, const std::vector<PlanePoint>& outline) {
-    eye_ = eye;
+    set_eye_and_reach(eye, outline);
     points_.assign(outline.begin(), outline.end());
     points_.push_back(eye);
+    if (!triangle(eye, outline)) convex_hull(points_, hull_);
+    set_axes();
+  }
+
+  /// reset(eye, outline) for the points `other` was reset with (its eye and outline, in any
+  /// order and split; the same answers): their hull is other's, not computed again.
+  void reset_sharing_hull(const Fan& other, const PlanePoint& eye,
+                          const std::vector<PlanePoint>& outline) {
+    set_eye_and_reach(eye, outline);
+    hull_ = other.hull_;
+    set_axes();
+  }
+
+  /// The hull of the eye and the outline (for EdgeGrid::any_in_polygon).
+  const std::vector<PlanePoint>& hull() const { return hull_; }
+
+ private:
+  void set_eye_and_reach(const PlanePoint& eye, const std::vector<PlanePoint>& outline) {
+    eye_ = eye;
     reach_m_ = 0.0;  // |t - eye|1 is convex: its largest over the hull is at a vertex
     for (const PlanePoint& t : outline) {
       reach_m_ = std::max(reach_m_, std::abs(t.x - eye.x) + std::abs(t.y - eye.y));
     }
     reach_m_ += 2 * kOutlineSlackM;
-    if (!triangle(eye, outline)) convex_hull(points_, hull_);
+  }
+
+  void set_axes() {
+    const PlanePoint eye = eye_;
     rel_hull_.clear();
     for (const PlanePoint& v : hull_) rel_hull_.push_back({v.x - eye.x, v.y - eye.y});
     // Axes x, y and the hull's edge normals (not unit: a gap is asked for as kGapM |n|1 >=
@@ -511,9 +533,7 @@ class Fan {
     }
   }
 
-  /// The hull of the eye and the outline (for EdgeGrid::any_in_polygon).
-  const std::vector<PlanePoint>& hull() const { return hull_; }
-
+ public:
   /// True only when no line of the fan can be crossed by the edge a->b (see the class).
   bool edge_clear(const PlanePoint& a, const PlanePoint& b) const {
     constexpr double kU = std::numeric_limits<double>::epsilon() / 2;
@@ -618,6 +638,35 @@ void fan_candidates(const EdgeGrid& grid, const Fan& fan, Ends&& ends,
     const auto [a, b] = ends(i);
     if (!fan.edge_clear(a, b)) out.push_back({a, b, i});
     return false;  // every cell: all the candidates are wanted
+  });
+}
+
+/// True only when no obstacle edge can block a line from either eye, `left` or `right`, to a
+/// point in the hull of both eyes and `outline` (to Fan::kOutlineSlackM): every edge
+/// EdgeGrid::any_in_polygon offers for that hull is cleared by both fans, from_left (reset from
+/// `left` over `outline` and `right`) and from_right (from `right` over `outline` and `left`).
+/// `outline` is left with one more point. ends(i) as for fan_candidates.
+///
+/// Why: the two fans hold the same points, so the same hull, and a line from either eye to a
+/// point of it lies in it: the cells its walk visits are among those any_in_polygon visits
+/// (fan_candidates' argument), and an edge both fans clear can be crossed by no line from
+/// either eye (the Fan's proof, once per eye: it asks the eye not to lie near the edge's own
+/// line, which is why one fan is not enough).
+template <typename Ends>
+bool open_to_both(const EdgeGrid& grid, Fan& from_left, Fan& from_right, const PlanePoint& left,
+                  const PlanePoint& right, std::vector<PlanePoint>& outline, Ends&& ends) {
+  outline.push_back(right);
+  from_left.reset(left, outline);
+  outline.back() = left;
+  from_right.reset_sharing_hull(from_left, right, outline);
+  std::array<std::uint32_t, 64> judged;  // as fan_candidates: most edges judged once
+  judged.fill(std::numeric_limits<std::uint32_t>::max());
+  return !grid.any_in_polygon(from_left.hull(), Fan::kMarginM, [&](std::uint32_t i) {
+    std::uint32_t& slot = judged[i & 63];
+    if (slot == i) return false;
+    slot = i;
+    const auto [a, b] = ends(i);
+    return !from_left.edge_clear(a, b) || !from_right.edge_clear(a, b);
   });
 }
 

@@ -130,6 +130,10 @@ struct SightReport {
   std::size_t clear_fans = 0;       ///< of them without a candidate edge
   std::size_t fan_positions = 0;    ///< positions clear fans settled without a line (no terrain)
   std::size_t candidate_edges = 0;  ///< the fans' candidate edges (that may block a line)
+  /// Road directions tried as open to both kerbs at once (no obstacle near any of their lines;
+  /// without a terrain only), and of them found open: no search, the answer is the range.
+  std::size_t open_directions_tried = 0;
+  std::size_t open_directions = 0;
 };
 
 /// Fills the sight fields of every segment (run after terrain and context). `terrain` is the
