@@ -1,6 +1,6 @@
 #include "roadcross/preprocess/sight.hpp"
 
-#include "roadcross/preprocess/edge_grid.hpp"
+#include "roadcross/preprocess/fan.hpp"
 
 #include <algorithm>
 #include <array>

@@ -16,7 +16,7 @@
 #include <utility>
 #include <vector>
 
-#include "roadcross/preprocess/edge_grid.hpp"
+#include "roadcross/preprocess/fan.hpp"
 
 namespace rp = roadcross::preprocess;
 namespace sd = roadcross::preprocess::sight_detail;

@@ -131,8 +131,8 @@ struct UninitialisedAllocator : std::allocator<T> {
 /// end (its id, < slots()); its second end is the next slot. A vertex is in fixed point in the
 /// store's VertexFrame (within half a millimetre of the projected point) and read back as its
 /// exact double: every reader (the grid, the line test, the fan test) gets the same doubles, so
-/// the rounding analyses of edge_grid.hpp (the cells' slack, Fan's proof), which are about the
-/// doubles given to them, hold as before.
+/// the rounding analyses of edge_grid.hpp and fan.hpp (the cells' slack, Fan's proof), which are
+/// about the doubles given to them, hold as before.
 ///
 /// A header is a slot whose x is negative (a vertex's never is): x holds the run's bottom_m
 /// with its sign bit set (a band's bottom is >= 0 or -0, never NaN; -0 is x = -1, a NaN's
