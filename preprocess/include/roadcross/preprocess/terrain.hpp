@@ -105,6 +105,11 @@ enum class TpiRows {
   all,
 };
 
+/// Cells per block for an annulus of outer radius `outer_cells` (> 0, cells): the annulus mean
+/// is a smooth function of position, so beyond ~20 cells of radius it is computed on blocks of
+/// cells and interpolated, which keeps the cost per cell bounded whatever the radius. 1: none.
+std::size_t block_factor(double outer_cells);
+
 /// TPI of single cells, computed where asked: the cell's elevation minus the mean elevation of
 /// the cells whose centres lie in the annulus inner_m < d <= outer_m (metres). Sums come from
 /// per-row prefix sums (12 bytes a cell, or a block of cells for large radii), so a cell costs
@@ -198,7 +203,8 @@ struct StructureEnds {
 /// What a segment takes from its own sample: elevation, slope, grade and both TPI. Nothing for
 /// a bridge or tunnel (assign_terrain: from the structure's ends), and only the (absent)
 /// elevation where the midpoint has none.
-void store_terrain_sample(Segment& segment, const TerrainSample& sample);
+/// `length_m`: the segment's length (RoadGraph::length_m), metres, for the grade.
+void store_terrain_sample(Segment& segment, double length_m, const TerrainSample& sample);
 
 /// From the fields store_terrain_sample wrote and the structure segments' ends (sorted by
 /// segment): landform, CREST_OR_DIP, bridges and tunnels from their ends, the windowed
