@@ -1,7 +1,10 @@
 // SHA-256 against the FIPS 180-4 examples and against sha256sum (the value in maps/README.md).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <random>
 #include <string>
+#include <vector>
 
 #include "osm_fixture.hpp"
 #include "roadcross/preprocess/errors.hpp"
@@ -11,8 +14,8 @@ namespace rp = roadcross::preprocess;
 
 namespace {
 
-std::string sha256_of(const std::string& text) {
-  rp::Sha256 hash;
+std::string sha256_of(const std::string& text, rp::Sha256Compress compress = nullptr) {
+  rp::Sha256 hash(compress);
   hash.update(text.data(), text.size());
   return hash.hex_digest();
 }
@@ -37,6 +40,38 @@ TEST(Sha256, BoundaryLengths) {
             "b35439a4ac6f0948b6d6f9e3c6af0f5f590ce20f1bde7090ef7970686ec6738a");
   EXPECT_EQ(sha256_of(std::string(64, 'a')),
             "ffe054fe7ae0cb6dc65c3af9b61d5209f439851db43d0ba5997337df154668eb");
+}
+
+TEST(Sha256, HardwareCompressionGivesTheFipsExamples) {
+  const rp::Sha256Compress hardware = rp::sha256_compress_hardware();
+  if (!hardware) GTEST_SKIP() << "this CPU has no SHA extensions";
+  EXPECT_EQ(sha256_of("", hardware),
+            "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  EXPECT_EQ(sha256_of("abc", hardware),
+            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  EXPECT_EQ(sha256_of("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq", hardware),
+            "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
+  EXPECT_EQ(sha256_of(std::string(1000000, 'a'), hardware),
+            "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
+}
+
+TEST(Sha256, HardwareAndPortableAgreeOnRandomDataFedInRandomPieces) {
+  const rp::Sha256Compress hardware = rp::sha256_compress_hardware();
+  if (!hardware) GTEST_SKIP() << "this CPU has no SHA extensions";
+  std::mt19937 random(20261202);
+  for (int trial = 0; trial < 200; ++trial) {
+    std::vector<unsigned char> data(random() % 3000);
+    for (unsigned char& byte : data) byte = static_cast<unsigned char>(random());
+    rp::Sha256 portable(&rp::sha256_compress_portable), fast(hardware);
+    portable.update(data.data(), data.size());
+    // The same bytes in pieces of 0..199 bytes: buffered and unbuffered blocks.
+    for (std::size_t at = 0; at < data.size();) {
+      const std::size_t piece = std::min<std::size_t>(random() % 200, data.size() - at);
+      fast.update(data.data() + at, piece);
+      at += piece;
+    }
+    ASSERT_EQ(fast.hex_digest(), portable.hex_digest()) << data.size() << " bytes";
+  }
 }
 
 TEST(Sha256, FileMatchesProvenance) {
