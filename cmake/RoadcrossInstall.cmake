@@ -39,6 +39,9 @@ install(TARGETS roadcross RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT 
 if(TARGET roadcross-build)
   install(TARGETS roadcross-build RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT tools)
 endif()
+if(TARGET roadcross-viz)  # beside roadcross, which runs it for render, export and view
+  install(TARGETS roadcross-viz RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT tools)
+endif()
 
 # Debian packages: roadcross-runtime-dev (library, headers, CMake and pkg-config files),
 # roadcross-tools (the executables) and python3-roadcross (the Python module, when

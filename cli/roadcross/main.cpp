@@ -1,14 +1,42 @@
 // roadcross: query a roadcross map before or during a mission.
 #include <CLI/CLI.hpp>
 
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "commands.hpp"
-#ifdef ROADCROSS_WITH_VIZ
-#include "viz_commands.hpp"
-#endif
 #include "roadcross/version.hpp"
+#include "viz_command_list.hpp"
+
+namespace {
+
+/// Runs `roadcross-viz COMMAND ARGS...` from this program's directory in place of this
+/// process (so its output and exit status are the command's); returns only on failure.
+int run_viz_command(const std::string& command, const std::vector<std::string>& args) {
+  std::error_code error;
+  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
+  const std::filesystem::path program =
+      (error ? std::filesystem::path(".") : self.parent_path()) / roadcross::cli::kVizProgram;
+  std::vector<std::string> words{program.string(), command};
+  words.insert(words.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& word : words) argv.push_back(word.data());
+  argv.push_back(nullptr);
+  ::execv(program.c_str(), argv.data());
+  std::cerr << "roadcross " << command << ": cannot run " << program.string() << " ("
+            << std::strerror(errno) << "); the drawing commands come with the full build "
+            << "(cmake --preset release) and the roadcross-tools package\n";
+  return 1;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -39,13 +67,23 @@ int main(int argc, char** argv) {
   commands.push_back(std::make_unique<roadcross::cli::GapCommand>(app));
   commands.push_back(std::make_unique<roadcross::cli::SimulateCommand>(app));
 #ifdef ROADCROSS_WITH_VIZ
-  commands.push_back(std::make_unique<roadcross::cli::RenderCommand>(app));
-  commands.push_back(std::make_unique<roadcross::cli::ExportCommand>(app));
-  commands.push_back(std::make_unique<roadcross::cli::ViewCommand>(app));
+  // Listed here, run by roadcross-viz: every argument after the name (--help too) goes to it.
+  std::vector<CLI::App*> viz_commands;
+  for (const auto& viz : roadcross::cli::kVizCommands) {
+    CLI::App* sub = app.add_subcommand(viz.name, viz.description);
+    sub->prefix_command();
+    sub->set_help_flag();
+    viz_commands.push_back(sub);
+  }
 #endif
   CLI11_PARSE(app, argc, argv);
   for (const auto& command : commands) {
     if (command->app()->parsed()) return command->run();
   }
+#ifdef ROADCROSS_WITH_VIZ
+  for (CLI::App* sub : viz_commands) {
+    if (sub->parsed()) return run_viz_command(sub->get_name(), sub->remaining());
+  }
+#endif
   return 1;
 }

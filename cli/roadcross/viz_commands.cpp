@@ -5,6 +5,8 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "viz_command_list.hpp"
+
 namespace roadcross::cli {
 
 namespace {
@@ -31,10 +33,7 @@ int report_errors(const char* command, Work&& work) {
 }  // namespace
 
 RenderCommand::RenderCommand(CLI::App& parent) {
-  app_ = parent.add_subcommand(
-      "render",
-      "draw the map as a PNG: segments coloured by a term, designated crossings, hillshade, "
-      "legend, scale bar, north arrow (and a .pgw world file beside it)");
+  app_ = parent.add_subcommand(kVizCommands[0].name, kVizCommands[0].description);
   app_->add_option("--db", options_.db_path, "roadcross GeoPackage")->required();
   app_->add_option("-o,--output", options_.output_path, "PNG to write")->required();
   app_->add_option("--bbox", bbox_, kBboxHelp);
@@ -80,10 +79,7 @@ int RenderCommand::run() {
 }
 
 ExportCommand::ExportCommand(CLI::App& parent) {
-  app_ = parent.add_subcommand(
-      "export",
-      "write a table of the map as GeoJSON in WGS84, every column a property, plus suitable "
-      "and assess_reasons (the runtime's judgement on the centreline)");
+  app_ = parent.add_subcommand(kVizCommands[1].name, kVizCommands[1].description);
   app_->add_option("--db", options_.db_path, "roadcross GeoPackage")->required();
   app_->add_option("-o,--output", options_.output_path, "file to write")->required();
   app_->add_option("--format", options_.format, "output format (geojson)")->capture_default_str();
@@ -106,10 +102,7 @@ int ExportCommand::run() {
 }
 
 ViewCommand::ViewCommand(CLI::App& parent) {
-  app_ = parent.add_subcommand(
-      "view",
-      "write an offline HTML viewer of the map into a folder: segments coloured by "
-      "suitability, their terms on hover, a coordinate search that gives assess's answer");
+  app_ = parent.add_subcommand(kVizCommands[2].name, kVizCommands[2].description);
   app_->add_option("--db", options_.db_path, "roadcross GeoPackage")->required();
   app_->add_option("-o,--output", options_.output_dir, "folder to write (created if missing)")
       ->required();

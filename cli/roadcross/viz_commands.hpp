@@ -1,5 +1,7 @@
-// The subcommands that draw a map (render, export, view): full build only, since they link
-// Cairo and GDAL through roadcross::viz; main.cpp registers them when ROADCROSS_WITH_VIZ is set.
+// The subcommands that draw a map (render, export, view), run by the program roadcross-viz
+// (viz_main.cpp): they link Cairo and GDAL through roadcross::viz, whose loading alone took
+// ~80 ms of every `roadcross` call. `roadcross render ...` hands its arguments on to
+// `roadcross-viz render ...` (main.cpp). Full build only.
 #pragma once
 
 #include <optional>

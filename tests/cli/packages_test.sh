@@ -16,8 +16,10 @@ grep -q '^ROADCROSS_BUILD_ROS:BOOL=ON' "$ROADCROSS_BINARY_DIR/CMakeCache.txt" &&
 for package in $expected; do
   ls "$work/${package}"_*.deb >/dev/null 2>&1 || { echo "FAIL: no $package package" >&2; ls "$work" >&2; exit 1; }
 done
-dpkg-deb -c "$work"/roadcross-tools_*.deb | grep -q '/usr/bin/roadcross-build$' ||
-  { echo "FAIL: roadcross-tools lacks usr/bin/roadcross-build" >&2; exit 1; }
+for program in roadcross roadcross-build roadcross-viz; do
+  dpkg-deb -c "$work"/roadcross-tools_*.deb | grep -q "/usr/bin/$program\$" ||
+    { echo "FAIL: roadcross-tools lacks usr/bin/$program" >&2; exit 1; }
+done
 
 if ((ros)); then
   deb=$(ls "$work"/roadcross-ros_*.deb)
