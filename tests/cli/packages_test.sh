@@ -16,8 +16,9 @@ grep -q '^ROADCROSS_BUILD_ROS:BOOL=ON' "$ROADCROSS_BINARY_DIR/CMakeCache.txt" &&
 for package in $expected; do
   ls "$work/${package}"_*.deb >/dev/null 2>&1 || { echo "FAIL: no $package package" >&2; ls "$work" >&2; exit 1; }
 done
+tools_files=$(dpkg-deb -c "$work"/roadcross-tools_*.deb)  # (grep -q on the pipe would cut it)
 for program in roadcross roadcross-build roadcross-viz; do
-  dpkg-deb -c "$work"/roadcross-tools_*.deb | grep -q "/usr/bin/$program\$" ||
+  grep -q "/usr/bin/$program\$" <<<"$tools_files" ||
     { echo "FAIL: roadcross-tools lacks usr/bin/$program" >&2; exit 1; }
 done
 
