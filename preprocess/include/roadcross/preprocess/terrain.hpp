@@ -103,7 +103,9 @@ double automatic_cell_size_m(const std::vector<double>& raster_pixel_sides_m, bo
 /// The cell size a build uses and where it came from (for the summary).
 struct CellSizeChoice {
   double cell_m = 0.0;
-  std::string source;  ///< e.g. "given", "raster N50E014.hgt: 19.9 x 30.9 m pixels at the roads"
+  /// e.g. "given (terrain.cell_size_m)", "automatic: XYZ points", "automatic: finest raster
+  /// N50E014.hgt: 59.64 x 92.70 m pixels at the roads, whole metres in [5, 25] (...)"
+  std::string source;
 };
 
 /// Slope in degrees at every cell (Horn's 3x3 finite differences, as gdaldem); NaN where a
