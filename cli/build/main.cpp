@@ -37,6 +37,7 @@ void print_json_summary(const rp::BuildOptions& options, const rp::BuildSummary&
     out["terrain"] = {{"grid_cols", t.grid.cols},
                       {"grid_rows", t.grid.rows},
                       {"cell_m", t.grid.cell_m},
+                      {"cell_size_source", t.cell_size_source},
                       {"cells_with_elevation", t.cells_with_elevation},
                       {"voids_filled", t.voids_filled},
                       {"xyz_points", t.xyz_points},

@@ -211,6 +211,18 @@ BuildSummary run_build(const BuildOptions& options) {
   return_freed_memory();
   progress.finish_stage("class, junctions, curvature");
   const bool has_elevation = !options.elevation.sources.empty();
+  // The terrain cell size, when not given, follows the elevation inputs (their zone and the
+  // roads are known only now); the DB's metadata records the size used. Without elevation it
+  // is unused and recorded as the XYZ default.
+  Parameters parameters = options.parameters;
+  const CellSizeChoice cell =
+      has_elevation
+          ? choose_cell_size(graph, options.elevation, parameters.terrain)
+          : CellSizeChoice{parameters.terrain.cell_size_m > 0.0 ? parameters.terrain.cell_size_m
+                                                                : kFinestAutomaticCellM,
+                           "no elevation input"};
+  parameters.terrain.cell_size_m = cell.cell_m;
+  parameters.validate();
   TerrainReport terrain;
   Grid terrain_grid(GridSpec{});
   if (has_elevation) {
@@ -218,8 +230,9 @@ BuildSummary run_build(const BuildOptions& options) {
     // adds its grids and both cores' tiles: it has mostly finished beside the geometry stage,
     // and overlapping the two would add their peaks. (Its errors come at get(), below.)
     segment_index.wait();
-    terrain = compute_terrain(graph, options.elevation, options.parameters.terrain, progress,
-                              &terrain_grid);
+    terrain =
+        compute_terrain(graph, options.elevation, parameters.terrain, progress, &terrain_grid);
+    terrain.cell_size_source = cell.source;
   } else {
     for (Segment& s : graph.segments) s.reasons.add("NO_ELEVATION");
   }
@@ -241,7 +254,7 @@ BuildSummary run_build(const BuildOptions& options) {
   contents.graph = &graph;
   contents.crossings = &context.crossings;
   contents.last_change = last_change;
-  contents.metadata = options.parameters.as_metadata();
+  contents.metadata = parameters.as_metadata();
   contents.metadata.emplace_back(schema::meta::kToolVersion, options.tool_version);
   contents.metadata.emplace_back(schema::meta::kAttribution,
                                  "Map data (c) OpenStreetMap contributors, ODbL 1.0");
@@ -302,6 +315,8 @@ BuildSummary run_build(const BuildOptions& options) {
   summary.has_elevation = has_elevation;
   summary.terrain = terrain;
   if (has_elevation) {
+    summary.notes.push_back("terrain grid cell size: " + format_number(cell.cell_m) + " m (" +
+                            cell.source + ")");
     summary.notes.push_back(std::to_string(terrain.segments_without_elevation) + " of " +
                             std::to_string(graph.segments.size()) +
                             " segments have no elevation (NO_ELEVATION; rank without the term)");

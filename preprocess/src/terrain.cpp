@@ -65,8 +65,10 @@ bool is_crest_or_dip(Landform landform) noexcept {
 
 void TerrainParameters::describe(std::vector<ParameterSpec>& out) {
   const std::string s = "terrain";
-  out.push_back({s, "cell_size_m", &cell_size_m, 0.5, 100, false,
-                 "terrain grid cell size in the DB's UTM zone, metres"});
+  out.push_back({s, "cell_size_m", &cell_size_m, 0, 100, false,
+                 "terrain grid cell size in the DB's UTM zone, metres (0.5..100); 0: from the "
+                 "elevation input (the finest raster's pixel, whole metres in [5, "
+                 "tpi_small_outer_m / 2]; 5 with XYZ points)"});
   out.push_back({s, "tile_size_m", &tile_size_m, 100, 1000000, false,
                  "the grid is analysed in tiles of this size (+ a halo), metres"});
   out.push_back({s, "tpi_small_inner_m", &tpi_small_inner_m, 0, 10000, false,
@@ -112,9 +114,27 @@ void TerrainParameters::validate_relations() const {
   if (tpi_large_inner_m >= tpi_large_outer_m) {
     throw ParameterError("terrain.tpi_large_inner_m must be below terrain.tpi_large_outer_m");
   }
-  if (tpi_small_outer_m < cell_size_m || tpi_large_outer_m < cell_size_m) {
-    throw ParameterError("the TPI outer radii must be at least terrain.cell_size_m");
+  if (cell_size_m != 0.0 && cell_size_m < 0.5) {
+    throw ParameterError("terrain.cell_size_m must be 0 (automatic) or in [0.5, 100], got " +
+                         format_number(cell_size_m));
   }
+  if (tpi_small_outer_m < cell_size_m || tpi_large_outer_m < cell_size_m) {
+    throw ParameterError("the TPI outer radii must be at least terrain.cell_size_m (" +
+                         format_number(cell_size_m) + " m)");
+  }
+}
+
+double automatic_cell_size_m(const std::vector<double>& raster_pixel_sides_m, bool has_xyz,
+                             double tpi_small_outer_m) {
+  double finest = std::numeric_limits<double>::infinity();
+  for (const double side : raster_pixel_sides_m) {
+    if (std::isfinite(side) && side > 0.0) finest = std::min(finest, side);
+  }
+  if (has_xyz || !std::isfinite(finest)) return kFinestAutomaticCellM;
+  // Whole metres keep the grid's edges on round coordinates; a ceiling below the floor (a
+  // small annulus under 10 m) leaves the floor, which validation then checks as any value.
+  const double ceiling = std::max(kFinestAutomaticCellM, std::floor(tpi_small_outer_m / 2.0));
+  return std::clamp(std::floor(finest), kFinestAutomaticCellM, ceiling);
 }
 
 float slope_at(const Grid& elevation, std::size_t col, std::size_t row) {

@@ -243,8 +243,8 @@ struct RasterElevation::Impl {
   std::string path;
   std::unique_ptr<GDALDataset, GdalDatasetCloser> dataset;
   GDALRasterBand* band = nullptr;
-  std::array<double, 6> inverse_geotransform{};
-  std::unique_ptr<OGRCoordinateTransformation> utm_to_raster;
+  std::array<double, 6> geotransform{}, inverse_geotransform{};
+  std::unique_ptr<OGRCoordinateTransformation> utm_to_raster, raster_to_utm;
   bool has_nodata = false;
   double nodata = 0.0;
   double scale = 1.0, offset = 0.0;  ///< 1 and 0 when the band has none
@@ -286,7 +286,7 @@ RasterElevation::RasterElevation(const std::string& path, const geo::UtmZone& zo
                      "the raster has no coordinate system (georeference it, e.g. with "
                      "gdal_translate -a_srs)");
   }
-  std::array<double, 6> geotransform{};
+  std::array<double, 6>& geotransform = r.geotransform;
   if (r.dataset->GetGeoTransform(geotransform.data()) != CE_None ||
       !GDALInvGeoTransform(geotransform.data(), r.inverse_geotransform.data())) {
     throw InputError(path, "the raster has no usable geotransform");
@@ -296,7 +296,10 @@ RasterElevation::RasterElevation(const std::string& path, const geo::UtmZone& zo
   utm.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
   raster.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
   r.utm_to_raster.reset(OGRCreateCoordinateTransformation(&utm, &raster));
-  if (!r.utm_to_raster) throw InputError(path, "no transformation from UTM to the raster's CRS");
+  r.raster_to_utm.reset(OGRCreateCoordinateTransformation(&raster, &utm));
+  if (!r.utm_to_raster || !r.raster_to_utm) {
+    throw InputError(path, "no transformation between UTM and the raster's CRS");
+  }
   r.band = r.dataset->GetRasterBand(1);
   int has_nodata = 0, has_scale = 0, has_offset = 0;
   r.nodata = r.band->GetNoDataValue(&has_nodata);
@@ -318,6 +321,36 @@ std::size_t RasterElevation::fill(Grid& grid) const {
   const PixelWindow window = window_of(lattice, width, height);
   if (window.empty()) return 0;  // the raster does not reach the grid
   return fill_cells(grid, lattice, window, impl_->read(window), width, height);
+}
+
+RasterElevation::PixelSize RasterElevation::pixel_size_at(double easting_m,
+                                                          double northing_m) const {
+  const QuietGdal quiet;
+  const Impl& r = *impl_;
+  double x = easting_m, y = northing_m;
+  PixelSize size;
+  if (!r.utm_to_raster->Transform(1, &x, &y) || !std::isfinite(x) || !std::isfinite(y)) {
+    return size;
+  }
+  const auto& ig = r.inverse_geotransform;
+  const double px = ig[0] + ig[1] * x + ig[2] * y, py = ig[3] + ig[4] * x + ig[5] * y;
+  // The pixel's corner at (px, py) and its neighbours one column and one row on, in the
+  // raster's CRS, then in UTM.
+  const auto& g = r.geotransform;
+  std::array<double, 3> cx{}, cy{};
+  for (int k = 0; k < 3; ++k) {
+    const double c = px + (k == 1 ? 1.0 : 0.0), l = py + (k == 2 ? 1.0 : 0.0);
+    cx[k] = g[0] + g[1] * c + g[2] * l;
+    cy[k] = g[3] + g[4] * c + g[5] * l;
+  }
+  std::array<int, 3> ok{};
+  if (!r.raster_to_utm->Transform(3, cx.data(), cy.data(), nullptr, ok.data()) || !ok[0] ||
+      !ok[1] || !ok[2]) {
+    return size;
+  }
+  size.column_m = std::hypot(cx[1] - cx[0], cy[1] - cy[0]);
+  size.row_m = std::hypot(cx[2] - cx[0], cy[2] - cy[0]);
+  return size;
 }
 
 std::size_t fill_from_raster(Grid& grid, const std::string& path) {

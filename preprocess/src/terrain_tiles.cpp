@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <limits>
 #include <mutex>
 #include <numeric>
@@ -502,9 +504,57 @@ void run_on_two_cores(std::size_t count, const Job& job) {
 
 }  // namespace
 
+CellSizeChoice choose_cell_size(const RoadGraph& graph, const TerrainInputs& inputs,
+                                const TerrainParameters& parameters) {
+  if (parameters.cell_size_m > 0.0) return {parameters.cell_size_m, "given (terrain.cell_size_m)"};
+  bool has_xyz = false;
+  std::vector<double> sides_m;
+  std::string finest;  // the raster with the smallest side, as "file: a x b m"
+  const Bounds roads = road_bounds(graph);
+  const double centre_e = 0.5 * (roads.min_e + roads.max_e);
+  const double centre_n = 0.5 * (roads.min_n + roads.max_n);
+  for (const ElevationSource& source : inputs.sources) {
+    if (source.kind == ElevationKind::xyz) {
+      has_xyz = true;
+      continue;
+    }
+    const RasterElevation::PixelSize pixel =
+        RasterElevation(source.path, graph.zone).pixel_size_at(centre_e, centre_n);
+    const double side = std::min(pixel.column_m, pixel.row_m);  // NaN when either is
+    if (!std::isfinite(side)) continue;
+    if (sides_m.empty() || side < *std::min_element(sides_m.begin(), sides_m.end())) {
+      char text[96];
+      std::snprintf(text, sizeof text, ": %.2f x %.2f m pixels at the roads", pixel.column_m,
+                    pixel.row_m);
+      finest = std::filesystem::path(source.path).filename().string() + text;
+    }
+    sides_m.push_back(side);
+  }
+  const double cell_m = automatic_cell_size_m(sides_m, has_xyz, parameters.tpi_small_outer_m);
+  std::string source;
+  if (has_xyz) {
+    source = "automatic: XYZ points";
+  } else if (sides_m.empty()) {
+    source = "automatic: no raster pixel measurable at the roads";
+  } else {
+    source = "automatic: finest raster " + finest + ", whole metres in [" +
+             format_number(kFinestAutomaticCellM) + ", " +
+             format_number(
+                 std::max(kFinestAutomaticCellM, std::floor(parameters.tpi_small_outer_m / 2.0))) +
+             "] (tpi_small_outer_m / 2)";
+  }
+  return {cell_m, source};
+}
+
 TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
-                              const TerrainParameters& p, Progress& progress, Grid* elevation_out) {
+                              const TerrainParameters& given, Progress& progress,
+                              Grid* elevation_out) {
   TerrainReport report;
+  TerrainParameters p = given;
+  const CellSizeChoice cell = choose_cell_size(graph, inputs, given);
+  p.cell_size_m = cell.cell_m;
+  report.cell_size_source = cell.source;
+  p.validate_relations();
   const Bounds roads = road_bounds(graph);
   // The whole grid reaches one large TPI radius beyond the roads so that road cells see whole
   // annuli; it is never held at once, only tile by tile.

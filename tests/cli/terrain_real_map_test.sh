@@ -19,8 +19,8 @@ median_abs_difference() {
 # --- Prague: raster vs S-JTSK XYZ (detected, no --elevation-crs) --------------------------
 "$SCRIPTS/make-derived-xyz.sh" "$ROADCROSS_MAPS_DIR/prague/N50E014.hgt" EPSG:5514 \
   "-745000 -1046000 -741000 -1042500" 30 space "$WORK/prague_sjtsk.xyz"
-"$ROADCROSS_BUILD" --osm "$PRAGUE_OSM" -o "$WORK/raster.gpkg" -q \
-  --elevation "$ROADCROSS_MAPS_DIR/prague/N50E014.hgt"
+"$ROADCROSS_BUILD" --osm "$PRAGUE_OSM" -o "$WORK/raster.gpkg" \
+  --elevation "$ROADCROSS_MAPS_DIR/prague/N50E014.hgt" >"$WORK/raster.txt"
 "$ROADCROSS_BUILD" --osm "$PRAGUE_OSM" -o "$WORK/xyz.gpkg" --json \
   --elevation "$WORK/prague_sjtsk.xyz" >"$WORK/xyz.json"
 [[ $(json_field "$WORK/xyz.json" terrain xyz_crs) == EPSG:5514 ]] && pass "S-JTSK detected" ||
@@ -56,12 +56,36 @@ gdal_median=$(paste "$WORK/our_z" "$WORK/gdal_z" | awk '{ d = $1 - $2; print (d 
 near "$gdal_median" 0 2.0 && pass "raster vs gdallocationinfo: median |dz| $gdal_median m" ||
   fail "raster vs gdallocationinfo: median |dz| $gdal_median m"
 
+# The terrain cell size follows the raster: N50E014.hgt has 3" pixels, at Prague (50.08 N,
+# 0.4 degrees from zone 33's central meridian: UTM scale ~0.9996) 3 x 19.88 = 59.6 m east-west
+# and 3 x 30.90 = 92.7 m north-south (WGS84: pi/180/3600 N(phi) cos(phi), resp. M(phi)); the
+# finer side floored, 59 m, is above the ceiling floor(tpi_small_outer_m 50 / 2) = 25 m. The
+# summary names the size and its source; a given value (flag or parameter file) is used as is.
+grep -q '^  terrain grid cell size: 25 m (automatic: finest raster N50E014.hgt: 59\.[0-9]* x 92\.[0-9]* m' \
+  "$WORK/raster.txt" && pass "Prague: automatic 25 m cells named in the summary" ||
+  fail "Prague cell size line: $(grep 'cell size' "$WORK/raster.txt")"
+"$ROADCROSS_BUILD" --osm "$PRAGUE_OSM" -o "$WORK/given.gpkg" --json --sight.enabled 0 \
+  --elevation "$ROADCROSS_MAPS_DIR/prague/N50E014.hgt" --terrain.cell_size_m 10 >"$WORK/given.json"
+[[ $(json_field "$WORK/given.json" terrain cell_m) == 10* &&
+  $(json_field "$WORK/given.json" terrain cell_size_source) == "given (terrain.cell_size_m)" ]] &&
+  grep -q '"terrain grid cell size: 10 m (given (terrain.cell_size_m))"' "$WORK/given.json" &&
+  pass "--terrain.cell_size_m 10 is used as given (JSON)" ||
+  fail "given cell size: $(json_field "$WORK/given.json" terrain cell_m) $(json_field "$WORK/given.json" terrain cell_size_source)"
+printf '[terrain]\ncell_size_m = 12\n' >"$WORK/cell12.toml"
+"$ROADCROSS_BUILD" --osm "$PRAGUE_OSM" -o "$WORK/given.gpkg" --config "$WORK/cell12.toml" \
+  --sight.enabled 0 --elevation "$ROADCROSS_MAPS_DIR/prague/N50E014.hgt" >"$WORK/given.txt"
+grep -q '^  terrain grid cell size: 12 m (given' "$WORK/given.txt" &&
+  [[ $(sqlite3 "$WORK/given.gpkg" "SELECT value FROM roadcross_metadata WHERE key = 'param.terrain.cell_size_m'") == 12 ]] &&
+  pass "a parameter file's cell size is used as given" || fail "parameter file cell size: $(grep 'cell size' "$WORK/given.txt")"
+[[ $(sqlite3 "$WORK/raster.gpkg" "SELECT value FROM roadcross_metadata WHERE key = 'param.terrain.cell_size_m'") == 25 ]] &&
+  pass "the DB records the 25 m used" || fail "the DB does not record the cell size used"
+
 # The terrain grid is in the DB as a GeoPackage gridded coverage that GDAL reads: its cell
-# under a segment's midpoint holds (to within the 5 m grid's local relief) the segment's
+# under a segment's midpoint holds (to within the grid's local relief) the segment's
 # elevation, and gdaldem can shade it.
 gdalinfo "GPKG:$WORK/raster.gpkg:terrain" >"$WORK/terrain_info" 2>&1 || fail "gdalinfo cannot open the terrain grid"
-grep -q 'Pixel Size = (5.000000000000000,-5.000000000000000)' "$WORK/terrain_info" &&
-  pass "terrain grid: 5 m cells" || fail "terrain grid: $(grep 'Pixel Size' "$WORK/terrain_info")"
+grep -q 'Pixel Size = (25.000000000000000,-25.000000000000000)' "$WORK/terrain_info" &&
+  pass "terrain grid: 25 m cells" || fail "terrain grid: $(grep 'Pixel Size' "$WORK/terrain_info")"
 cut -d' ' -f2,3 "$WORK/mid_utm" | gdallocationinfo -valonly -geoloc "GPKG:$WORK/raster.gpkg:terrain" >"$WORK/grid_z"
 grid_median=$(paste "$WORK/our_z" "$WORK/grid_z" | awk '{ d = $1 - $2; print (d < 0 ? -d : d) }' |
   sort -g | awk '{ v[NR] = $1 } END { print v[int((NR + 1) / 2)] }')

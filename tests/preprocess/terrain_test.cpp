@@ -478,6 +478,9 @@ rp::BuildSummary build(const TempDir& dir, const std::string& osm,
   // The road is 1200 m in UTM up to the centimetre the OSM coordinates are rounded to: just
   // over 10 m segments keep the count at 120.
   options.parameters.segments.max_segment_length_m = 10.01;
+  // The expected values of the tests below were derived for 5 m cells (the automatic choice
+  // would take the 10 m pixels of their rasters).
+  options.parameters.terrain.cell_size_m = 5.0;
   for (const std::string& e : elevation) {
     options.elevation.sources.push_back({e, rp::elevation_kind_of(e)});
   }
@@ -686,6 +689,7 @@ TEST(TerrainBuild, TilesGiveTheSameTermsAsOneGrid) {
   options.output_path = dir.file("tiled.gpkg");
   options.parameters.segments.max_segment_length_m = 10.01;
   options.parameters.terrain.tile_size_m = 150.0;
+  options.parameters.terrain.cell_size_m = 5.0;  // as build() above
   options.elevation.sources.push_back({tif, rp::ElevationKind::raster});
   const rp::BuildSummary tiled = rp::run_build(options);
   EXPECT_EQ(one.terrain.tiles, 1u);
@@ -754,4 +758,135 @@ TEST(TerrainBuild, XyzSplitWithASmallMemoryBudgetGivesTheSameTerms) {
   }
   std::sort(left.begin(), left.end());
   EXPECT_EQ(left, (std::vector<std::string>{"held.gpkg", "hill.xyz", "road.osm", "split.gpkg"}));
+}
+
+// --- the automatic terrain cell size (terrain.cell_size_m = 0) ---------------------------------
+
+TEST(TerrainCellSize, RuleTakesTheFinestRasterPixelFlooredAndClamped) {
+  // SRTM 1" at 50 N (19.88 x 30.90 m) -> 19 m; SRTM 3" (59.6 x 92.7 m) -> the small annulus's
+  // ceiling floor(50 / 2) = 25 m; a 1 m lidar raster -> the 5 m floor; the finest of several
+  // wins; any XYZ input, or no raster side at all, -> 5 m.
+  EXPECT_EQ(rp::automatic_cell_size_m({19.88, 30.90}, false, 50.0), 19.0);
+  EXPECT_EQ(rp::automatic_cell_size_m({59.6, 92.7}, false, 50.0), 25.0);
+  EXPECT_EQ(rp::automatic_cell_size_m({59.6, 92.7}, false, 45.0), 22.0);  // floor(22.5)
+  EXPECT_EQ(rp::automatic_cell_size_m({1.0, 1.0}, false, 50.0), 5.0);
+  EXPECT_EQ(rp::automatic_cell_size_m({59.6, 92.7, 12.5, 12.5}, false, 50.0), 12.0);
+  EXPECT_EQ(rp::automatic_cell_size_m({19.88, 30.90}, true, 50.0), 5.0);
+  EXPECT_EQ(rp::automatic_cell_size_m({}, false, 50.0), 5.0);
+  EXPECT_EQ(rp::automatic_cell_size_m({NAN, NAN}, false, 50.0), 5.0);
+  // A small annulus under 10 m leaves the floor (validation then checks it like a given value).
+  EXPECT_EQ(rp::automatic_cell_size_m({30.0}, false, 8.0), 5.0);
+}
+
+namespace {
+
+/// A constant-elevation GeoTIFF in EPSG:4326 with 1 arc-second pixels over the road of
+/// road_across() (lon 15 +- 0.02, lat 50.0 +- 0.01).
+std::string write_arc_second_geotiff(const std::string& path) {
+  GDALAllRegister();
+  const int cols = 144, rows = 72;  // 0.04 and 0.02 degrees
+  GDALDataset* ds = GetGDALDriverManager()->GetDriverByName("GTiff")->Create(
+      path.c_str(), cols, rows, 1, GDT_Float32, nullptr);
+  const double arc_second = 1.0 / 3600.0;
+  const geo::LatLon road = geo::utm_to_wgs84(kE0, kN0, kZone);
+  double gt[6] = {15.0 - 72 * arc_second,         arc_second, 0,
+                  road.lat_deg + 36 * arc_second, 0,          -arc_second};
+  ds->SetGeoTransform(gt);
+  OGRSpatialReference srs;
+  srs.importFromEPSG(4326);
+  ds->SetSpatialRef(&srs);
+  std::vector<float> pixels(static_cast<std::size_t>(cols) * rows, 250.0f);
+  EXPECT_EQ(ds->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, cols, rows, pixels.data(), cols, rows,
+                                           GDT_Float32, 0, 0),
+            CE_None);
+  GDALClose(ds);
+  return path;
+}
+
+rp::BuildSummary build_auto(const TempDir& dir, const std::vector<std::string>& elevation,
+                            const std::string& out, double cell_size_m = 0.0) {
+  rp::BuildOptions options;
+  options.osm_path = dir.write("road.osm", road_across());
+  options.output_path = dir.file(out);
+  options.parameters.terrain.cell_size_m = cell_size_m;
+  for (const std::string& e : elevation) {
+    options.elevation.sources.push_back({e, rp::elevation_kind_of(e)});
+  }
+  options.elevation.xyz_crs = "EPSG:32633";
+  return rp::run_build(options);
+}
+
+double metadata_cell_size(const std::string& gpkg) {
+  roadcross::sqlite::Database db(gpkg, SQLITE_OPEN_READONLY);
+  auto q =
+      db.prepare("SELECT value FROM roadcross_metadata WHERE key = 'param.terrain.cell_size_m'");
+  return q.step() ? std::stod(q.column_text(0)) : -1.0;
+}
+
+}  // namespace
+
+TEST(TerrainCellSize, GeographicRasterPixelIsMeasuredOnTheEllipsoid) {
+  // By hand, WGS84 (a = 6 378 137 m, f = 1 / 298.257223563, e^2 = f (2 - f)) at the road's
+  // latitude phi (~50.0 N, on zone 33's central meridian, where UTM's scale is k0 = 0.9996 in
+  // every direction): one arc-second of longitude spans pi/180/3600 * N(phi) cos(phi) * k0,
+  // N = a / sqrt(1 - e^2 sin^2 phi); one of latitude pi/180/3600 * M(phi) * k0,
+  // M = a (1 - e^2) / (1 - e^2 sin^2 phi)^1.5. About 19.87 m and 30.88 m.
+  TempDir dir;
+  const std::string tif = write_arc_second_geotiff(dir.file("arc_second.tif"));
+  const double phi = geo::utm_to_wgs84(kE0, kN0, kZone).lat_deg * kPi / 180.0;
+  const double a = 6378137.0, f = 1.0 / 298.257223563, e2 = f * (2.0 - f);
+  const double w = 1.0 - e2 * std::sin(phi) * std::sin(phi);
+  const double arc = kPi / 180.0 / 3600.0, k0 = 0.9996;
+  const double lon_side_m = arc * a / std::sqrt(w) * std::cos(phi) * k0;
+  const double lat_side_m = arc * a * (1.0 - e2) / std::pow(w, 1.5) * k0;
+  const rp::RasterElevation::PixelSize pixel =
+      rp::RasterElevation(tif, kZone).pixel_size_at(kE0, kN0);
+  EXPECT_NEAR(pixel.column_m, lon_side_m, 0.005);
+  EXPECT_NEAR(pixel.row_m, lat_side_m, 0.005);
+  ASSERT_GT(lon_side_m, 19.0);
+  ASSERT_LT(lon_side_m, 20.0);
+  // The build takes floor(19.87) = 19 m cells, says so, and records them in the DB.
+  const rp::BuildSummary s = build_auto(dir, {tif}, "arc_second.gpkg");
+  EXPECT_EQ(s.terrain.grid.cell_m, 19.0);
+  EXPECT_THAT(s.terrain.cell_size_source, ::testing::HasSubstr("arc_second.tif"));
+  EXPECT_THAT(s.notes, ::testing::Contains(::testing::HasSubstr(
+                           "terrain grid cell size: 19 m (automatic: finest raster")));
+  EXPECT_EQ(metadata_cell_size(dir.file("arc_second.gpkg")), 19.0);
+}
+
+TEST(TerrainCellSize, UtmRasterXyzAndAGivenValue) {
+  TempDir dir;
+  const auto plane = [](double e, double) { return 200.0 + 0.1 * (e - kE0); };
+  // A UTM raster in the DB's own zone: its 12.5 m pixels are 12.5 m -> 12 m cells.
+  const std::string tif = write_geotiff(dir.file("plane12.tif"), plane, 1500.0, 12.5);
+  const rp::RasterElevation::PixelSize pixel =
+      rp::RasterElevation(tif, kZone).pixel_size_at(kE0 + 123.0, kN0 - 45.0);
+  EXPECT_NEAR(pixel.column_m, 12.5, 1e-6);
+  EXPECT_NEAR(pixel.row_m, 12.5, 1e-6);
+  const rp::BuildSummary utm = build_auto(dir, {tif}, "utm.gpkg");
+  EXPECT_EQ(utm.terrain.grid.cell_m, 12.0);
+  EXPECT_EQ(metadata_cell_size(dir.file("utm.gpkg")), 12.0);
+  // 20 m XYZ points alone, and beside the raster: 5 m (a point file's spacing is not known
+  // before it is read).
+  const std::string xyz = write_xyz(dir.file("plane.xyz"), plane, 1500.0, 20.0, ' ');
+  const rp::BuildSummary points = build_auto(dir, {xyz}, "xyz.gpkg");
+  EXPECT_EQ(points.terrain.grid.cell_m, 5.0);
+  EXPECT_EQ(points.terrain.cell_size_source, "automatic: XYZ points");
+  EXPECT_EQ(build_auto(dir, {tif, xyz}, "both.gpkg").terrain.grid.cell_m, 5.0);
+  // A given value is used as given, finer or coarser than the rule's.
+  const rp::BuildSummary given = build_auto(dir, {tif}, "given.gpkg", 8.0);
+  EXPECT_EQ(given.terrain.grid.cell_m, 8.0);
+  EXPECT_THAT(given.notes,
+              ::testing::Contains("terrain grid cell size: 8 m (given (terrain.cell_size_m))"));
+  EXPECT_EQ(build_auto(dir, {xyz}, "given_xyz.gpkg", 20.0).terrain.grid.cell_m, 20.0);
+  EXPECT_EQ(metadata_cell_size(dir.file("given_xyz.gpkg")), 20.0);
+  // Validation still applies to the given value.
+  rp::BuildOptions bad;
+  bad.osm_path = dir.write("road.osm", road_across());
+  bad.output_path = dir.file("bad.gpkg");
+  bad.parameters.terrain.cell_size_m = 60.0;  // above the small annulus's 50 m
+  bad.elevation.sources.push_back({tif, rp::ElevationKind::raster});
+  EXPECT_THROW(rp::run_build(bad), rp::ParameterError);
+  bad.parameters.terrain.cell_size_m = 0.25;  // neither automatic nor in [0.5, 100]
+  EXPECT_THROW(rp::run_build(bad), rp::ParameterError);
 }

@@ -44,8 +44,9 @@ std::string_view landform_name(Landform landform) noexcept;
 bool is_crest_or_dip(Landform landform) noexcept;
 
 struct TerrainParameters {
-  /// Terrain grid cell size, metres.
-  double cell_size_m = 5.0;
+  /// Terrain grid cell size, metres; 0 (the default): chosen from the elevation inputs by
+  /// automatic_cell_size_m (a raster's pixel; 5 m for XYZ points), see choose_cell_size.
+  double cell_size_m = 0.0;
   /// The grid is analysed in square tiles of this size (plus a halo of the large TPI radius),
   /// so that memory follows the tile, not the map; metres.
   double tile_size_m = 10000.0;
@@ -81,8 +82,30 @@ struct TerrainParameters {
   std::array<double, kLandformCount> landform_cost = {8, 5, 6, 2, 1, 3, 6, 8, 10, 15};
 
   void describe(std::vector<ParameterSpec>& out);
-  /// Throws ParameterError when an inner radius is not below its outer radius.
+  /// Throws ParameterError when an inner radius is not below its outer radius, or an outer
+  /// radius is below a given cell size (an automatic one is checked once chosen).
   void validate_relations() const;
+};
+
+/// The finest cell size the automatic choice takes, metres: XYZ points (DMR 5G is a TIN of
+/// points a few metres apart, whose spacing is not known before they are read), and the floor
+/// for fine rasters (the method's own grid).
+constexpr double kFinestAutomaticCellM = 5.0;
+
+/// The automatic terrain cell size, metres: the smallest pixel side of the raster inputs
+/// (`raster_pixel_sides_m`, in UTM metres at the roads; a finer grid would only interpolate
+/// the DEM bilinearly between its pixels), floored to whole metres and clamped to
+/// [kFinestAutomaticCellM, floor(tpi_small_outer_m / 2)] (the small TPI annulus keeps a few
+/// cells across); kFinestAutomaticCellM when there is an XYZ input or no raster side.
+double automatic_cell_size_m(const std::vector<double>& raster_pixel_sides_m, bool has_xyz,
+                             double tpi_small_outer_m);
+
+/// The cell size a build uses and where it came from (for the summary).
+struct CellSizeChoice {
+  double cell_m = 0.0;
+  /// e.g. "given (terrain.cell_size_m)", "automatic: XYZ points", "automatic: finest raster
+  /// N50E014.hgt: 59.64 x 92.70 m pixels at the roads, whole metres in [5, 25] (...)"
+  std::string source;
 };
 
 /// Slope in degrees at every cell (Horn's 3x3 finite differences, as gdaldem); NaN where a
@@ -237,13 +260,21 @@ struct TerrainReport {
   std::size_t segments_without_elevation = 0;
   std::size_t structure_segments = 0;  ///< bridges and tunnels, elevation from their ends
   std::vector<std::pair<std::string, std::size_t>> cells_per_source;
+  std::string cell_size_source;  ///< CellSizeChoice::source
 };
+
+/// terrain.cell_size_m when given (> 0); otherwise automatic_cell_size_m of the inputs, each
+/// raster's pixel measured at the centre of the roads' bounding box in the graph's UTM zone.
+/// Throws InputError when a raster cannot be opened.
+CellSizeChoice choose_cell_size(const RoadGraph& graph, const TerrainInputs& inputs,
+                                const TerrainParameters& parameters);
 
 /// Builds the terrain grid from the inputs (covering the roads plus the largest TPI radius) tile
 /// by tile, analyses each tile, standardises TPI over the whole map and fills the terrain fields
 /// of every segment. The elevation grid (voids filled; coarser when it would exceed 40 M cells)
 /// is moved into `elevation_out` when given, for storing in the DB. Throws InputError
-/// for an unreadable file or when no input overlaps the roads at all.
+/// for an unreadable file or when no input overlaps the roads at all. An automatic
+/// terrain.cell_size_m (0) is chosen here with choose_cell_size.
 TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
                               const TerrainParameters& parameters, Progress& progress,
                               Grid* elevation_out = nullptr);

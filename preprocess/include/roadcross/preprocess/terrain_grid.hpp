@@ -98,6 +98,16 @@ class RasterElevation {
   /// As fill_from_raster, on the calling thread; `grid` must be in the zone given above.
   std::size_t fill(Grid& grid) const;
 
+  /// The raster's pixel at the UTM point (easting_m, northing_m), measured in UTM: the lengths
+  /// of its two sides, metres (a pixel's column and row steps, each through the raster's
+  /// geotransform and the CRS transformation; for a geographic raster the degrees become metres
+  /// on the ellipsoid there). The point need not lie on the raster: the geotransform extends
+  /// beyond it. NaN when the transformation fails there.
+  struct PixelSize {
+    double column_m = NAN, row_m = NAN;
+  };
+  PixelSize pixel_size_at(double easting_m, double northing_m) const;
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
