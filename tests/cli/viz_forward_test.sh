@@ -5,8 +5,11 @@ source "$(dirname "$0")/lib.sh"
 
 # roadcross links neither library; roadcross-viz, beside it, does.
 viz="$(dirname "$ROADCROSS")/roadcross-viz"
-if ldd "$ROADCROSS" | grep -Eq 'libgdal|libcairo'; then fail "roadcross links GDAL or Cairo"; else pass "roadcross links neither GDAL nor Cairo"; fi
-ldd "$viz" | grep -q libgdal && pass "roadcross-viz links GDAL" || fail "roadcross-viz lacks GDAL"
+# (ldd's output read whole: grep -q on its pipe would stop it with SIGPIPE under pipefail)
+roadcross_libraries=$(ldd "$ROADCROSS")
+viz_libraries=$(ldd "$viz")
+if grep -Eq 'libgdal|libcairo' <<<"$roadcross_libraries"; then fail "roadcross links GDAL or Cairo"; else pass "roadcross links neither GDAL nor Cairo"; fi
+grep -q libgdal <<<"$viz_libraries" && pass "roadcross-viz links GDAL" || fail "roadcross-viz lacks GDAL"
 
 # Each drawing command's own help (its options), through roadcross.
 grep -q -- '--color-by' <("$ROADCROSS" render --help) && pass "render --help is render's" || fail "render --help"
