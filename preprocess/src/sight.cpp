@@ -439,7 +439,9 @@ class KerbSearch {
   /// default 5 m step an open road's 60 positions take 3 fans (12, 24, 24). A fan costs ~4 000
   /// instructions (its hull, the edges under it), a line tested against candidates ~600.
   /// Monaco, callgrind, whole build (first-max): 12-48 6.30 G; 10-50 6.36; 8-32 6.58; 16-48
-  /// 6.60; 20-40 6.98; 8-32 growing 4x 6.82, 12-48 growing 3x 7.00.
+  /// 6.60; 20-40 6.98; 8-32 growing 4x 6.82, 12-48 growing 3x 7.00. Again with the cheaper
+  /// fans (per-fan crossing terms, axis bounds when needed): 12-48 5.60 G, 8-48 5.77, 16-64
+  /// 5.85.
   static constexpr std::size_t kFirstFan = 12, kMaxFan = 48;
 
   /// The position `index` steps out (clamped to the end).
