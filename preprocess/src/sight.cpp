@@ -149,17 +149,28 @@ PlanePoint leaving_direction(const RoadPiece& piece, bool at_end) {
   return {0.0, 0.0};
 }
 
+/// leaving_direction of every piece end, [piece][at_end], computed once (a path's every node
+/// asked it of each piece there).
+std::vector<std::array<PlanePoint, 2>> leaving_directions(const RoadGraph& graph) {
+  std::vector<std::array<PlanePoint, 2>> out;
+  out.reserve(graph.pieces.size());
+  for (const RoadPiece& piece : graph.pieces) {
+    out.push_back({leaving_direction(piece, false), leaving_direction(piece, true)});
+  }
+  return out;
+}
+
 /// The straightest continuation at `node` for a path arriving with direction `heading`
 /// (unit), other than the piece end it arrived through; nullptr at a dead end. Ties go to the
 /// lower piece index, so the choice is deterministic.
-const Incidence* continuation(const RoadGraph& graph, const Incidences& incidences,
-                              std::int64_t node, const Incidence& arrived,
-                              const PlanePoint& heading) {
+const Incidence* continuation(const std::vector<std::array<PlanePoint, 2>>& leaving,
+                              const Incidences& incidences, std::int64_t node,
+                              const Incidence& arrived, const PlanePoint& heading) {
   const Incidence* best = nullptr;
   double best_cos = -2.0;
   for (const Incidence& c : incidences.at(node)) {
     if (c.piece == arrived.piece && c.at_end == arrived.at_end) continue;
-    const PlanePoint d = leaving_direction(graph.pieces[c.piece], c.at_end);
+    const PlanePoint d = leaving[c.piece][c.at_end ? 1 : 0];
     const double cos = d.x * heading.x + d.y * heading.y;
     if (cos > best_cos) best_cos = cos, best = &c;
   }
@@ -186,14 +197,17 @@ PlanePoint last_heading(const Path& path) {
 }
 
 /// The road from position pos_m of `piece` in one direction, continued through graph nodes
-/// onto the straightest continuation, until it is `range_m` long or reaches a dead end.
-Path follow_road(const RoadGraph& graph, const Incidences& incidences,
-                 const std::vector<std::vector<double>>& cumulative, std::size_t piece,
-                 double pos_m, bool towards_end, double range_m) {
+/// onto the straightest continuation, until it is `range_m` long or reaches a dead end; into
+/// `path` (its buffers are reused from segment to segment).
+void follow_road(const RoadGraph& graph, const Incidences& incidences,
+                 const std::vector<std::vector<double>>& cumulative,
+                 const std::vector<std::array<PlanePoint, 2>>& leaving, std::size_t piece,
+                 double pos_m, bool towards_end, double range_m, Path& path) {
   const RoadPiece& first = graph.pieces[piece];
   const std::vector<double>& c = cumulative[piece];
   const std::size_t leg = leg_at(c, pos_m);
-  Path path;
+  path.points.clear();
+  path.at_m.clear();
   path.points.push_back(lerp(first.points[leg], first.points[leg + 1],
                              (pos_m - c[leg]) / std::max(1e-9, c[leg + 1] - c[leg])));
   path.at_m.push_back(0.0);
@@ -204,7 +218,7 @@ Path follow_road(const RoadGraph& graph, const Incidences& incidences,
   for (std::size_t hops = 0; path.length_m() < range_m && hops < 10000; ++hops) {
     const RoadPiece& at = graph.pieces[arrived.piece];
     const std::int64_t node = arrived.at_end ? at.to_node_id : at.from_node_id;
-    const Incidence* next = continuation(graph, incidences, node, arrived, last_heading(path));
+    const Incidence* next = continuation(leaving, incidences, node, arrived, last_heading(path));
     if (!next) break;
     const RoadPiece& p = graph.pieces[next->piece];
     // Entering at its from-node walks it towards its end, and the other way round.
@@ -212,7 +226,6 @@ Path follow_road(const RoadGraph& graph, const Incidences& incidences,
     walk_piece(p, cumulative[next->piece], forward ? 0.0 : p.length_m + 1.0, forward, path);
     arrived = {next->piece, forward};
   }
-  return path;
 }
 
 /// What blocks a line of sight: the terrain and the obstacle prisms.
@@ -283,7 +296,7 @@ class Scene {
   /// Edge i's band is looked up only once the line crosses it in plan (rarely).
   bool edge_blocks(const sight_detail::CandidateEdge& c, const PlanLine& line, const Point3& eye,
                    const Point3& target) const {
-    const double t = crossing_parameter(line, c.a, c.b);
+    const double t = crossing_parameter(line.rx, line.ry, c.from_eye);  // (line's eye: the fan's)
     if (std::isnan(t)) return false;
     const double z = eye.z + t * (target.z - eye.z);
     const PlanePoint p{eye.x + t * (target.x - eye.x), eye.y + t * (target.y - eye.y)};
@@ -353,7 +366,8 @@ class OpenDirections {
 class KerbSearch {
  public:
   KerbSearch(const Scene& scene, const Path& path, const Point3& eye, const SightParameters& p,
-             SightWork& work, Fan& fan, std::vector<sight_detail::CandidateEdge>& candidates)
+             SightWork& work, Fan& fan, std::vector<sight_detail::CandidateEdge>& candidates,
+             std::vector<PlanePoint>& outline)
       : scene_(scene),
         cursor_(path),
         eye_(eye),
@@ -361,6 +375,7 @@ class KerbSearch {
         work_(work),
         fan_(fan),
         candidates_(candidates),
+        outline_(outline),
         end_m_(std::min(p.range_m, path.length_m())),
         done_(!(seen_m_ < end_m_)),
         answer_m_(p.range_m) {}
@@ -424,7 +439,9 @@ class KerbSearch {
   /// default 5 m step an open road's 60 positions take 3 fans (12, 24, 24). A fan costs ~4 000
   /// instructions (its hull, the edges under it), a line tested against candidates ~600.
   /// Monaco, callgrind, whole build (first-max): 12-48 6.30 G; 10-50 6.36; 8-32 6.58; 16-48
-  /// 6.60; 20-40 6.98; 8-32 growing 4x 6.82, 12-48 growing 3x 7.00.
+  /// 6.60; 20-40 6.98; 8-32 growing 4x 6.82, 12-48 growing 3x 7.00. Again with the cheaper
+  /// fans (per-fan crossing terms, axis bounds when needed): 12-48 5.60 G, 8-48 5.77, 16-64
+  /// 5.85.
   static constexpr std::size_t kFirstFan = 12, kMaxFan = 48;
 
   /// The position `index` steps out (clamped to the end).
@@ -458,7 +475,7 @@ class KerbSearch {
   SightWork& work_;
   Fan& fan_;
   std::vector<sight_detail::CandidateEdge>& candidates_;  ///< the last fan's
-  std::vector<PlanePoint> outline_;   ///< points whose hull holds the fan's targets
+  std::vector<PlanePoint>& outline_;  ///< points whose hull holds the fan's targets (a buffer)
   std::size_t fan_size_ = kFirstFan;  ///< positions in the next fan
   const double end_m_;
   std::size_t k_ = 1;    ///< the next step
@@ -492,6 +509,7 @@ struct Context {
   const RoadGraph& graph;
   const Incidences incidences;
   const std::vector<std::vector<double>> cumulative;
+  const std::vector<std::array<PlanePoint, 2>> leaving;  ///< leaving_directions
   const Scene& scene;
   const SightParameters& p;
 };
@@ -503,6 +521,8 @@ struct SightThread {
   std::vector<sight_detail::CandidateEdge> candidates;
   std::vector<PlanePoint> outline;
   OpenDirections open;
+  Path ahead, behind;                                    ///< the segment's two directions
+  std::array<std::vector<PlanePoint>, 2> kerb_outlines;  ///< KerbSearch's, per kerb
 };
 
 /// The points whose hull holds every position along `path` up to the range (to 1e-8 m, see
@@ -526,10 +546,12 @@ void sight_of_segment(const Context& c, Segment& s, SightThread& t) {
   const std::vector<double>& cum = c.cumulative[s.piece_index];
   const double pos_m =
       std::clamp(c.graph.offset_in_piece_m(s) + 0.5 * c.graph.length_m(s), 0.0, cum.back());
-  const Path ahead =
-      follow_road(c.graph, c.incidences, c.cumulative, s.piece_index, pos_m, true, c.p.range_m);
-  const Path behind =
-      follow_road(c.graph, c.incidences, c.cumulative, s.piece_index, pos_m, false, c.p.range_m);
+  const Path& ahead = t.ahead;
+  const Path& behind = t.behind;
+  follow_road(c.graph, c.incidences, c.cumulative, c.leaving, s.piece_index, pos_m, true,
+              c.p.range_m, t.ahead);
+  follow_road(c.graph, c.incidences, c.cumulative, c.leaving, s.piece_index, pos_m, false,
+              c.p.range_m, t.behind);
   const std::size_t leg = leg_at(cum, pos_m);
   const PlanePoint& a = piece.points[leg];
   const PlanePoint& b = piece.points[leg + 1];
@@ -558,8 +580,8 @@ void sight_of_segment(const Context& c, Segment& s, SightThread& t) {
     }
     // The kerbs take turns, each step computing its fan and candidates and using them before
     // it returns: the two share the buffers.
-    KerbSearch left(c.scene, path, eyes[0], c.p, work, fan, candidates);
-    KerbSearch right(c.scene, path, eyes[1], c.p, work, fan, candidates);
+    KerbSearch left(c.scene, path, eyes[0], c.p, work, fan, candidates, t.kerb_outlines[0]);
+    KerbSearch right(c.scene, path, eyes[1], c.p, work, fan, candidates, t.kerb_outlines[1]);
     const double answer_m = worse_kerb_m(left, right);
     t.open.answered(direction, answer_m >= c.p.range_m);
     return answer_m;
@@ -580,7 +602,8 @@ SightReport compute_sight(RoadGraph& graph, const Grid* terrain, const ObstacleE
   std::vector<std::vector<double>> cumulative;
   cumulative.reserve(graph.pieces.size());
   for (const RoadPiece& piece : graph.pieces) cumulative.push_back(cumulative_m(piece.points));
-  const Context context{graph, incidences_of(graph), std::move(cumulative), scene, p};
+  const Context context{
+      graph, incidences_of(graph), std::move(cumulative), leaving_directions(graph), scene, p};
 
   // Dense streets take much longer than open roads: threads take small chunks in turn.
   constexpr std::size_t kChunk = 64;

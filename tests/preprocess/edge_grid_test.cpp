@@ -890,9 +890,18 @@ TEST(FanCandidates, EveryLineGetsTheAnswerOfItsOwnWalk) {
         const PlanePoint target = path.at(d);
         const auto blocks = blocks_for(target);
         const bool want = grid.any_along(eye, target, blocks);
+        const sd::PlanLine line(eye, target);
         const auto blocks_candidate = [&](const sd::CandidateEdge& c) {
           EXPECT_EQ(c.a.x, edges[c.id].a.x);  // the candidate's ends are the edge's
           EXPECT_EQ(c.b.y, edges[c.id].b.y);
+          // Its crossing terms (from the fan's eye, kept for all the fan's lines) give the
+          // crossing of this line with the edge, bit for bit, as the sight stage uses them.
+          const double t_kept = sd::crossing_parameter(line.rx, line.ry, c.from_eye);
+          const double t_line = sd::crossing_parameter(line, edges[c.id].a, edges[c.id].b);
+          EXPECT_TRUE(std::isnan(t_kept) ? std::isnan(t_line)
+                                         : std::bit_cast<std::uint64_t>(t_kept) ==
+                                               std::bit_cast<std::uint64_t>(t_line))
+              << k << " " << d;
           return blocks(c.id);
         };
         const bool got = sd::blocked_among(fan_candidates, eye, target, blocks_candidate);
@@ -1063,4 +1072,33 @@ TEST(OpenToBoth, NoLineFromEitherKerbCrossesAnEdgeWhenOpen) {
   EXPECT_GT(closed, 2000u);
   EXPECT_GT(open_with_grazing, 100u);  // edges a few mm from a line, or on its line, were open
   EXPECT_GT(lines, 50000u);
+}
+
+TEST(FanCandidates, CrossingTermsFromTheEyeGiveTheCrossingParameterBitForBit) {
+  // crossing_parameter(rx, ry, edge_from_eye(eye, a, b)), as a fan's candidates use it, against
+  // crossing_parameter(PlanLine(eye, target), a, b) and the division form: random edges near
+  // random lines (and ends on the line), in UTM coordinates.
+  std::mt19937_64 rng(47);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::size_t crossings = 0;
+  for (int k = 0; k < 200000; ++k) {
+    const PlanePoint eye{731232.0 + 500 * u(rng), 4849872.0 + 500 * u(rng)};
+    const PlanePoint t{eye.x + 100 * u(rng), eye.y + 100 * u(rng)};
+    const double s = k % 4 == 0 ? 1.0 : u(rng);
+    const PlanePoint on{eye.x + s * (t.x - eye.x), eye.y + s * (t.y - eye.y)};
+    const PlanePoint a{on.x + 5 * u(rng), on.y + 5 * u(rng)};
+    const PlanePoint b = k % 3 == 0 ? on : PlanePoint{on.x + 5 * u(rng), on.y + 5 * u(rng)};
+    const sd::PlanLine line(eye, t);
+    const double want = sd::crossing_parameter(line, a, b);
+    const double got = sd::crossing_parameter(line.rx, line.ry, sd::edge_from_eye(eye, a, b));
+    const double division = reference_crossing(eye, t, a, b);
+    ASSERT_EQ(std::isnan(got), std::isnan(want)) << k;
+    ASSERT_EQ(std::isnan(got), std::isnan(division)) << k;
+    if (!std::isnan(got)) {
+      ASSERT_EQ(std::bit_cast<std::uint64_t>(got), std::bit_cast<std::uint64_t>(want)) << k;
+      ASSERT_EQ(std::bit_cast<std::uint64_t>(got), std::bit_cast<std::uint64_t>(division)) << k;
+      ++crossings;
+    }
+  }
+  EXPECT_GT(crossings, 20000u);
 }

@@ -365,23 +365,42 @@ inline bool surely_outside_unit(double num, double denom) {
   return n > d * (1.0 + 1e-9);                              // a quotient above 1
 }
 
+/// The terms of crossing_parameter that depend only on an edge a->b and the eye, not on the
+/// target: s = b - a, q = a - eye and q x s. A fan's candidate edges keep them (fan_candidates),
+/// so that each of the fan's lines computes only its own terms; the arithmetic is the same.
+struct EdgeFromEye {
+  double sx = 0.0, sy = 0.0, qx = 0.0, qy = 0.0;
+  double line_num = 0.0;  ///< q x s
+};
+
+inline EdgeFromEye edge_from_eye(const PlanePoint& eye, const PlanePoint& a, const PlanePoint& b) {
+  EdgeFromEye e;
+  e.sx = b.x - a.x, e.sy = b.y - a.y;
+  e.qx = a.x - eye.x, e.qy = a.y - eye.y;
+  e.line_num = e.qx * e.sy - e.qy * e.sx;
+  return e;
+}
+
+/// crossing_parameter for the line from the eye by (rx, ry), with the edge's terms from
+/// edge_from_eye(that eye, a, b): the same value, bit for bit.
+inline double crossing_parameter(double rx, double ry, const EdgeFromEye& e) {
+  const double denom = rx * e.sy - ry * e.sx;
+  if (std::abs(denom) < 1e-12) return NAN;  // parallel: grazing along an edge hides nothing
+  const double edge_num = e.qx * ry - e.qy * rx;
+  if (surely_outside_unit(edge_num, denom)) return NAN;
+  if (surely_outside_unit(e.line_num, denom)) return NAN;
+  const double along_line = e.line_num / denom;
+  const double along_edge = edge_num / denom;
+  if (along_line < 0.0 || along_line > 1.0 || along_edge < 0.0 || along_edge > 1.0) return NAN;
+  return along_line;
+}
+
 /// Where the sight line crosses the edge a->b: the parameter along the line, or NaN. The same
 /// arithmetic as the division form (along_line = (q x s) / (r x s), along_edge = (q x r) /
 /// (r x s)) and so the same answers; most edges near a line miss it and are rejected by sign
 /// and size before the divisions.
 inline double crossing_parameter(const PlanLine& line, const PlanePoint& a, const PlanePoint& b) {
-  const double sx = b.x - a.x, sy = b.y - a.y;
-  const double denom = line.rx * sy - line.ry * sx;
-  if (std::abs(denom) < 1e-12) return NAN;  // parallel: grazing along an edge hides nothing
-  const double qx = a.x - line.ex, qy = a.y - line.ey;
-  const double edge_num = qx * line.ry - qy * line.rx;
-  if (surely_outside_unit(edge_num, denom)) return NAN;
-  const double line_num = qx * sy - qy * sx;
-  if (surely_outside_unit(line_num, denom)) return NAN;
-  const double along_line = line_num / denom;
-  const double along_edge = edge_num / denom;
-  if (along_line < 0.0 || along_line > 1.0 || along_edge < 0.0 || along_edge > 1.0) return NAN;
-  return along_line;
+  return crossing_parameter(line.rx, line.ry, edge_from_eye({line.ex, line.ey}, a, b));
 }
 
 }  // namespace roadcross::preprocess::sight_detail

@@ -114,6 +114,7 @@ class Fan {
 
   /// The hull of the eye and the outline (for EdgeGrid::any_in_polygon).
   const std::vector<PlanePoint>& hull() const { return hull_; }
+  const PlanePoint& eye() const { return eye_; }
 
  private:
   void set_eye_and_reach(const PlanePoint& eye, const std::vector<PlanePoint>& outline) {
@@ -134,35 +135,25 @@ class Fan {
     // the gap: those of the hull's vertices (every point is in their hull; a projection's
     // rounding, < 1e-10 m, is inside kGapM's 1e-6 m), fewer than the points on a winding road.
     // The long sides first: a fan along a road is a thin wedge, and most edges near it lie
-    // beside one of its two long sides.
+    // beside one of its two long sides. An axis's bounds are computed when an edge first needs
+    // them (Axis::bound): most edges are told apart by the first one or two, and a winding
+    // road's hull has dozens of sides (all its bounds took 6-9 % of a build's instructions).
     axes_.clear();
     for (std::size_t i = 0; i < hull_.size() && hull_.size() > 1; ++i) {
       const PlanePoint& a = hull_[i];
       const PlanePoint& b = hull_[i + 1 < hull_.size() ? i + 1 : 0];
       const PlanePoint n{-(b.y - a.y), b.x - a.x};
-      if (n.x != 0.0 || n.y != 0.0) axes_.push_back({n, 0.0, 0.0});
+      if (n.x != 0.0 || n.y != 0.0) axes_.push_back(Axis{n, std::abs(n.x) + std::abs(n.y)});
     }
-    // (Insertion sort: a few axes, mostly three.)
+    // (Insertion sort, stable: a few axes, mostly three.)
     for (std::size_t i = 1; i < axes_.size(); ++i) {
       const Axis axis = axes_[i];
-      const double size = std::abs(axis.n.x) + std::abs(axis.n.y);
       std::size_t j = i;
-      for (; j > 0 && std::abs(axes_[j - 1].n.x) + std::abs(axes_[j - 1].n.y) < size; --j) {
-        axes_[j] = axes_[j - 1];
-      }
+      for (; j > 0 && axes_[j - 1].size < axis.size; --j) axes_[j] = axes_[j - 1];
       axes_[j] = axis;
     }
-    axes_.push_back({{1.0, 0.0}, 0.0, 0.0});
-    axes_.push_back({{0.0, 1.0}, 0.0, 0.0});
-    for (Axis& axis : axes_) {
-      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-      for (const PlanePoint& v : rel_hull_) {
-        const double d = axis.n.x * v.x + axis.n.y * v.y;
-        lo = std::min(lo, d), hi = std::max(hi, d);
-      }
-      const double gap = kGapM * (std::abs(axis.n.x) + std::abs(axis.n.y));
-      axis.below = lo - gap, axis.above = hi + gap;
-    }
+    axes_.push_back(Axis{{1.0, 0.0}, 1.0});
+    axes_.push_back(Axis{{0.0, 1.0}, 1.0});
   }
 
  public:
@@ -204,43 +195,67 @@ class Fan {
   }
 
   struct Axis {
-    PlanePoint n;                     ///< the direction
-    double below = 0.0, above = 0.0;  ///< a segment entirely outside these is separated
+    PlanePoint n;       ///< the direction
+    double size = 0.0;  ///< |n|1
+    /// A segment entirely outside these is separated; set by bound() (NaN: not yet).
+    double below = NAN, above = NAN;
+
+    /// The hull's bounds along n widened by the gap, computed the first time they are asked.
+    void bound(const std::vector<PlanePoint>& rel_hull) {
+      if (!std::isnan(below)) return;
+      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+      for (const PlanePoint& v : rel_hull) {
+        const double d = n.x * v.x + n.y * v.y;
+        lo = std::min(lo, d), hi = std::max(hi, d);
+      }
+      const double gap = kGapM * size;
+      below = lo - gap, above = hi + gap;
+    }
   };
 
   /// A separating axis with a gap of kGapM between the fan's points and the segment ra->rb
   /// (both relative to the eye).
   bool separated(const PlanePoint& ra, const PlanePoint& rb) const {
-    for (const Axis& axis : axes_) {
+    for (Axis& axis : axes_) {
+      axis.bound(rel_hull_);
       const double pa = axis.n.x * ra.x + axis.n.y * ra.y;
       const double pb = axis.n.x * rb.x + axis.n.y * rb.y;
       if (std::min(pa, pb) >= axis.above || std::max(pa, pb) <= axis.below) return true;
     }
-    // The edge's own normal against the hull's vertices (every point is in their hull).
+    // The edge's own normal against the hull's vertices (every point is in their hull): all of
+    // them at least the gap below the edge's projection, or all above it. Vertex by vertex,
+    // stopping once neither can hold: the same answer as comparing with the vertices' largest
+    // and smallest projections widened by the gap (rounding is monotonic: fl(max d + g) =
+    // max fl(d + g)).
     const PlanePoint n{-(rb.y - ra.y), rb.x - ra.x};
     const double n1 = std::abs(n.x) + std::abs(n.y);
     if (!(n1 > 0.0)) return false;
     const double pa = n.x * ra.x + n.y * ra.y, pb = n.x * rb.x + n.y * rb.y;
-    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    const double p_lo = std::min(pa, pb), p_hi = std::max(pa, pb), gap = kGapM * n1;
+    bool below = true, above = true;
     for (const PlanePoint& v : rel_hull_) {
       const double d = n.x * v.x + n.y * v.y;
-      lo = std::min(lo, d), hi = std::max(hi, d);
+      below = below && p_lo >= d + gap;
+      above = above && p_hi <= d - gap;
+      if (!below && !above) return false;
     }
-    return std::min(pa, pb) >= hi + kGapM * n1 || std::max(pa, pb) <= lo - kGapM * n1;
+    return below || above;
   }
 
   PlanePoint eye_;
   double reach_m_ = 0.0;            ///< R1: the largest |target - eye|1
   std::vector<PlanePoint> points_;  ///< the targets and the eye (sorted by the hull)
   std::vector<PlanePoint> hull_, rel_hull_;
-  std::vector<Axis> axes_;
+  mutable std::vector<Axis> axes_;  ///< their bounds filled in by separated() as needed
 };
 
 /// An edge that may block a line of a fan: its id and its ends (read once per fan, not per
-/// line).
+/// line), and the terms of crossing_parameter that depend only on the edge and the fan's eye
+/// (computed once per fan: each line then computes only its own, the same arithmetic).
 struct CandidateEdge {
   PlanePoint a, b;
   std::uint32_t id = 0;
+  EdgeFromEye from_eye;
 };
 
 /// The obstacle edges that may block a line of `fan` (from its eye to a target Fan::reset
@@ -268,7 +283,7 @@ void fan_candidates(const EdgeGrid& grid, const Fan& fan, Ends&& ends,
     if (slot == i) return false;
     slot = i;
     const auto [a, b] = ends(i);
-    if (!fan.edge_clear(a, b)) out.push_back({a, b, i});
+    if (!fan.edge_clear(a, b)) out.push_back({a, b, i, edge_from_eye(fan.eye(), a, b)});
     return false;  // every cell: all the candidates are wanted
   });
 }
