@@ -342,6 +342,30 @@ std::size_t block_factor(double outer_cells) {
   return std::max<std::size_t>(1, static_cast<std::size_t>(outer_cells / kBlocksPerRadius));
 }
 
+StatisticsLattice statistics_lattice(std::size_t grid_cells, const TerrainParameters& p) {
+  constexpr double kMinStatisticsCells = 250e3;
+  // Finer on small grids so that the lattice still holds kMinStatisticsCells; a grid under
+  // that (a map of a few km) is then exact, every cell, and cheap.
+  const auto grid_bound =
+      static_cast<long long>(std::sqrt(double(grid_cells) / kMinStatisticsCells));
+  StatisticsLattice out;
+  out.small_step = std::max<long long>(
+      1, std::min(std::llround(p.tpi_statistics_step_m / p.cell_size_m), grid_bound));
+  if (grid_bound <= 1) {  // a small grid: every cell for both (exact)
+    out.small_step = out.large_step = 1, out.large_offset = 0;
+    return out;
+  }
+  // The large TPI varies on the scale of its 300 m annulus: its lattice is 3x coarser, on the
+  // centres of its blocks, so that each lattice cell interpolates its annulus mean from few
+  // blocks (every block would be computed otherwise). Also where the cells are as coarse as
+  // the small lattice's step (25 m cells: a small step of 1 cell): every cell of a large grid
+  // for the large TPI was ~2/3 of the terrain stage's TPI work.
+  const auto factor = static_cast<long long>(block_factor(p.tpi_large_outer_m / p.cell_size_m));
+  out.large_step = (3 * out.small_step + factor - 1) / factor * factor;
+  out.large_offset = factor / 2;
+  return out;
+}
+
 /// The prefix sums behind an AnnulusTpi (a named type for the header's forward declaration).
 struct TpiPrefixSums : RowPrefixSums {
   using RowPrefixSums::RowPrefixSums;

@@ -212,9 +212,6 @@ struct TileTpi {
   }
 };
 
-/// The TPI statistics come from at least this many cells of the whole grid (where it has them).
-constexpr double kMinStatisticsCells = 250e3;
-
 /// Cells of the grid kept in the DB: the terrain at the analysis resolution, or coarser by a
 /// whole factor when that would exceed this many cells (a country at 5 m would be billions).
 constexpr double kStoredGridMaxCells = 40e6;
@@ -609,22 +606,9 @@ TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
   std::vector<std::size_t> cells_per_source(inputs.sources.size(), 0);
   std::vector<StructureEnds> structure_ends;
   RunningStatistics small_stats, large_stats;
-  // The statistics' lattice: every statistics_step-th cell each way, finer on small grids so
-  // that it still holds kMinStatisticsCells (a map of a few km is then exact, and cheap).
-  const auto statistics_step = std::max<long long>(
-      1, std::min(
-             std::llround(p.tpi_statistics_step_m / p.cell_size_m),
-             static_cast<long long>(std::sqrt(double(report.grid.size()) / kMinStatisticsCells))));
-  // The large TPI varies on the scale of its 300 m annulus: its lattice is 3x coarser, on the
-  // centres of its blocks, so that each lattice cell interpolates its annulus mean from few
-  // blocks (every block would be computed otherwise). A step of 1 (small grids) is exact.
-  const auto large_factor =
-      static_cast<long long>(block_factor(p.tpi_large_outer_m / p.cell_size_m));
-  const long long large_step =
-      statistics_step == 1 ? 1
-                           : (3 * statistics_step + large_factor - 1) / large_factor * large_factor;
-  const long long large_offset = statistics_step == 1 ? 0 : large_factor / 2;
-  const long long small_step = statistics_step;
+  const StatisticsLattice lattice = statistics_lattice(report.grid.size(), p);
+  const long long small_step = lattice.small_step, large_step = lattice.large_step;
+  const long long large_offset = lattice.large_offset;
 
   std::vector<std::size_t> tiles;  // those with segments, in tile order
   for (std::size_t tile = 0; tile < segments_of_tile.tiles(); ++tile) {

@@ -4,9 +4,11 @@
 #include <gdal_priv.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
 #include <ogr_spatialref.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -761,6 +763,31 @@ TEST(TerrainBuild, XyzSplitWithASmallMemoryBudgetGivesTheSameTerms) {
 }
 
 // --- the automatic terrain cell size (terrain.cell_size_m = 0) ---------------------------------
+
+// The statistics' lattices, steps worked by hand from the rule (cost-model.md "TPI statistics"):
+// small step = min(round(20 m / cell), floor(sqrt(cells / 250 000))), at least 1; every cell
+// when that bound is <= 1; large step = 3 x small rounded up to a multiple of the large
+// annulus' block factor floor(300 m / cell / 20), offset half a block.
+TEST(TerrainStatistics, LatticeStepsFollowTheGridAndTheCellSize) {
+  const auto lattice = [](std::size_t cells, double cell_m) {
+    rp::TerrainParameters p;
+    p.cell_size_m = cell_m;
+    const rp::StatisticsLattice l = rp::statistics_lattice(cells, p);
+    return std::array<long long, 3>{l.small_step, l.large_step, l.large_offset};
+  };
+  using Steps = std::array<long long, 3>;
+  // Monaco at 5 m (3.2 M cells): bound 3 < round(4): 15 m; factor 3: (9 + 2) / 3 * 3 = 9: 45 m.
+  EXPECT_EQ(lattice(3'200'000, 5.0), (Steps{3, 9, 1}));
+  // A country at 5 m: 20 m and (12 + 2) / 3 * 3 = 12: 60 m.
+  EXPECT_EQ(lattice(100'000'000, 5.0), (Steps{4, 12, 1}));
+  // Under 1 M cells (bound 1): every cell, exact.
+  EXPECT_EQ(lattice(999'999, 5.0), (Steps{1, 1, 0}));
+  EXPECT_EQ(lattice(1'000'000, 5.0), (Steps{2, 6, 1}));
+  // 25 m cells (SRTM 3"): round(0.8) = 1 cell for the small TPI; the large annulus is 12 cells
+  // (factor 1): every 3rd cell from 0, not every cell.
+  EXPECT_EQ(lattice(7'300'000, 25.0), (Steps{1, 3, 0}));
+  EXPECT_EQ(lattice(900'000, 25.0), (Steps{1, 1, 0}));
+}
 
 TEST(TerrainCellSize, RuleTakesTheFinestRasterPixelFlooredAndClamped) {
   // SRTM 1" at 50 N (19.88 x 30.90 m) -> 19 m; SRTM 3" (59.6 x 92.7 m) -> the small annulus's

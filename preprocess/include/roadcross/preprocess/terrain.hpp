@@ -133,6 +133,19 @@ enum class TpiRows {
 /// cells and interpolated, which keeps the cost per cell bounded whatever the radius. 1: none.
 std::size_t block_factor(double outer_cells);
 
+/// The lattices of cells whose TPI gives the mean and SD that standardise it (the whole grid's
+/// cells (col, row) with col % step == offset and row % step == offset).
+struct StatisticsLattice {
+  long long small_step = 1;    ///< small TPI: every small_step-th cell each way (offset 0)
+  long long large_step = 1;    ///< large TPI: every large_step-th cell, ...
+  long long large_offset = 0;  ///< ... starting here (the centres of its blocks)
+};
+
+/// The lattices for a whole grid of `grid_cells` cells of `parameters.cell_size_m` (resolved,
+/// > 0): terrain.tpi_statistics_step_m for the small TPI, about three times that for the
+/// large; every cell of a grid under 1 M cells (exact).
+StatisticsLattice statistics_lattice(std::size_t grid_cells, const TerrainParameters& parameters);
+
 /// TPI of single cells, computed where asked: the cell's elevation minus the mean elevation of
 /// the cells whose centres lie in the annulus inner_m < d <= outer_m (metres). Sums come from
 /// per-row prefix sums (12 bytes a cell, or a block of cells for large radii), so a cell costs
