@@ -15,7 +15,7 @@ install(TARGETS roadcross_runtime roadcross_geo roadcross_schema
         EXPORT roadcross-targets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT runtime
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-install(DIRECTORY ${PROJECT_SOURCE_DIR}/runtime/include/roadcross
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/geo/include/roadcross ${PROJECT_SOURCE_DIR}/runtime/include/roadcross
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} COMPONENT runtime
         FILES_MATCHING PATTERN "*.hpp")
 install(FILES ${PROJECT_BINARY_DIR}/generated/roadcross/version.hpp

@@ -14,20 +14,20 @@
 #include <optional>
 #include <utility>
 
-#include "roadcross/preprocess/context.hpp"
-#include "roadcross/preprocess/errors.hpp"
-#include "roadcross/preprocess/geometry_cost.hpp"
-#include "roadcross/preprocess/gpkg_writer.hpp"
-#include "roadcross/preprocess/osm_tags.hpp"
-#include "roadcross/preprocess/overrides.hpp"
-#include "roadcross/preprocess/progress.hpp"
+#include "roadcross/preprocess/context/context.hpp"
+#include "roadcross/preprocess/common/errors.hpp"
+#include "roadcross/preprocess/geometry/geometry_cost.hpp"
+#include "roadcross/preprocess/output/gpkg_writer.hpp"
+#include "roadcross/preprocess/context/osm_tags.hpp"
+#include "roadcross/preprocess/context/overrides.hpp"
+#include "roadcross/preprocess/common/progress.hpp"
 #include "roadcross/preprocess/rank.hpp"
-#include "roadcross/preprocess/road_network.hpp"
-#include "roadcross/preprocess/segments.hpp"
-#include "roadcross/preprocess/sha256.hpp"
-#include "roadcross/preprocess/sight.hpp"
-#include "roadcross/preprocess/terrain.hpp"
-#include "roadcross/preprocess/terrain_coverage.hpp"
+#include "roadcross/preprocess/osm/road_network.hpp"
+#include "roadcross/preprocess/graph/segments.hpp"
+#include "roadcross/preprocess/common/sha256.hpp"
+#include "roadcross/preprocess/sight/sight.hpp"
+#include "roadcross/preprocess/terrain/terrain.hpp"
+#include "roadcross/preprocess/output/terrain_coverage.hpp"
 #include "roadcross/schema/schema.hpp"
 
 namespace roadcross::preprocess {

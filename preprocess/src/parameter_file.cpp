@@ -7,7 +7,7 @@
 #include <set>
 #include <sstream>
 
-#include "roadcross/preprocess/errors.hpp"
+#include "roadcross/preprocess/common/errors.hpp"
 
 namespace roadcross::preprocess {
 

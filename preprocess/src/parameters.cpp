@@ -3,7 +3,7 @@
 #include <charconv>
 #include <cmath>
 
-#include "roadcross/preprocess/errors.hpp"
+#include "roadcross/preprocess/common/errors.hpp"
 #include "roadcross/schema/schema.hpp"
 
 namespace roadcross::preprocess {

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "roadcross/preprocess/sha256.hpp"
+#include "roadcross/preprocess/common/sha256.hpp"
 
 namespace rp = roadcross::preprocess;
 

@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "roadcross/preprocess/bulk_insert.hpp"
+#include "roadcross/preprocess/output/bulk_insert.hpp"
 #include "roadcross/schema/sqlite.hpp"
 
 namespace rp = roadcross::preprocess;

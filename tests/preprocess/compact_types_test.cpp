@@ -5,8 +5,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "roadcross/preprocess/maybe.hpp"
-#include "roadcross/preprocess/reasons.hpp"
+#include "roadcross/preprocess/common/maybe.hpp"
+#include "roadcross/preprocess/common/reasons.hpp"
 
 namespace rp = roadcross::preprocess;
 

@@ -11,10 +11,10 @@
 
 #include "osm_fixture.hpp"
 #include "roadcross/preprocess/build.hpp"
-#include "roadcross/preprocess/context.hpp"
-#include "roadcross/preprocess/progress.hpp"
-#include "roadcross/preprocess/road_network.hpp"
-#include "roadcross/preprocess/segments.hpp"
+#include "roadcross/preprocess/context/context.hpp"
+#include "roadcross/preprocess/common/progress.hpp"
+#include "roadcross/preprocess/osm/road_network.hpp"
+#include "roadcross/preprocess/graph/segments.hpp"
 #include "roadcross/schema/schema.hpp"
 #include "roadcross/schema/sqlite.hpp"
 

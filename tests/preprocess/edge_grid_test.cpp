@@ -16,7 +16,7 @@
 #include <utility>
 #include <vector>
 
-#include "roadcross/preprocess/fan.hpp"
+#include "roadcross/preprocess/sight/fan.hpp"
 
 namespace rp = roadcross::preprocess;
 namespace sd = roadcross::preprocess::sight_detail;

@@ -4,12 +4,12 @@
 
 #include <cmath>
 
-#include "roadcross/preprocess/curvature.hpp"
-#include "roadcross/preprocess/errors.hpp"
-#include "roadcross/preprocess/geometry_cost.hpp"
+#include "roadcross/preprocess/geometry/curvature.hpp"
+#include "roadcross/preprocess/common/errors.hpp"
+#include "roadcross/preprocess/geometry/geometry_cost.hpp"
 #include "roadcross/preprocess/parameters.hpp"
 #include "roadcross/preprocess/rank.hpp"
-#include "roadcross/preprocess/strokes.hpp"
+#include "roadcross/preprocess/graph/strokes.hpp"
 
 namespace rp = roadcross::preprocess;
 using rp::PlanePoint;

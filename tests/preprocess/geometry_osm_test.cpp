@@ -10,11 +10,11 @@
 
 #include "osm_fixture.hpp"
 #include "roadcross/geo.hpp"
-#include "roadcross/preprocess/geometry_cost.hpp"
-#include "roadcross/preprocess/progress.hpp"
+#include "roadcross/preprocess/geometry/geometry_cost.hpp"
+#include "roadcross/preprocess/common/progress.hpp"
 #include "roadcross/preprocess/rank.hpp"
-#include "roadcross/preprocess/road_network.hpp"
-#include "roadcross/preprocess/segments.hpp"
+#include "roadcross/preprocess/osm/road_network.hpp"
+#include "roadcross/preprocess/graph/segments.hpp"
 
 namespace rp = roadcross::preprocess;
 namespace rt = roadcross::testing;

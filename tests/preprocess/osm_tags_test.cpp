@@ -2,7 +2,7 @@
 // common values for maxspeed, lanes and width).
 #include <gtest/gtest.h>
 
-#include "roadcross/preprocess/osm_tags.hpp"
+#include "roadcross/preprocess/context/osm_tags.hpp"
 
 namespace rp = roadcross::preprocess;
 

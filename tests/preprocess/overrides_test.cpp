@@ -4,8 +4,8 @@
 
 #include "osm_fixture.hpp"
 #include "roadcross/preprocess/build.hpp"
-#include "roadcross/preprocess/errors.hpp"
-#include "roadcross/preprocess/overrides.hpp"
+#include "roadcross/preprocess/common/errors.hpp"
+#include "roadcross/preprocess/context/overrides.hpp"
 #include "roadcross/schema/sqlite.hpp"
 
 namespace rp = roadcross::preprocess;

@@ -2,7 +2,7 @@
 // line is an error naming the file, the line and the key.
 #include <gtest/gtest.h>
 
-#include "roadcross/preprocess/errors.hpp"
+#include "roadcross/preprocess/common/errors.hpp"
 #include "roadcross/preprocess/parameter_file.hpp"
 
 namespace rp = roadcross::preprocess;

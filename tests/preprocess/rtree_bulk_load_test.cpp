@@ -4,7 +4,7 @@
 
 #include <random>
 
-#include "roadcross/preprocess/rtree_bulk_load.hpp"
+#include "roadcross/preprocess/output/rtree_bulk_load.hpp"
 #include "roadcross/schema/sqlite.hpp"
 
 namespace rp = roadcross::preprocess;

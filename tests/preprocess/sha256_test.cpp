@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "osm_fixture.hpp"
-#include "roadcross/preprocess/errors.hpp"
-#include "roadcross/preprocess/sha256.hpp"
+#include "roadcross/preprocess/common/errors.hpp"
+#include "roadcross/preprocess/common/sha256.hpp"
 
 namespace rp = roadcross::preprocess;
 

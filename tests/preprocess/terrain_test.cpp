@@ -17,9 +17,9 @@
 
 #include "osm_fixture.hpp"
 #include "roadcross/preprocess/build.hpp"
-#include "roadcross/preprocess/errors.hpp"
-#include "roadcross/preprocess/terrain.hpp"
-#include "roadcross/preprocess/terrain_grid.hpp"
+#include "roadcross/preprocess/common/errors.hpp"
+#include "roadcross/preprocess/terrain/terrain.hpp"
+#include "roadcross/preprocess/terrain/terrain_grid.hpp"
 #include "roadcross/schema/sqlite.hpp"
 
 namespace rp = roadcross::preprocess;

@@ -8,8 +8,8 @@
 #include <random>
 
 #include "osm_fixture.hpp"
-#include "roadcross/preprocess/elevation_input.hpp"
-#include "roadcross/preprocess/xyz_tiles.hpp"
+#include "roadcross/preprocess/terrain/elevation_input.hpp"
+#include "roadcross/preprocess/terrain/xyz_tiles.hpp"
 
 namespace rp = roadcross::preprocess;
 using roadcross::testing::TempDir;

@@ -8,8 +8,8 @@
 
 #include "roadcross/geo.hpp"
 #include "roadcross/preprocess/parameters.hpp"
-#include "roadcross/preprocess/progress.hpp"
-#include "roadcross/preprocess/terrain.hpp"
+#include "roadcross/preprocess/common/progress.hpp"
+#include "roadcross/preprocess/terrain/terrain.hpp"
 
 namespace roadcross::preprocess {
 

@@ -8,12 +8,12 @@
 #include <utility>
 #include <vector>
 
-#include "roadcross/preprocess/context.hpp"
-#include "roadcross/preprocess/geometry_cost.hpp"
-#include "roadcross/preprocess/parameter_spec.hpp"
+#include "roadcross/preprocess/context/context.hpp"
+#include "roadcross/preprocess/geometry/geometry_cost.hpp"
+#include "roadcross/preprocess/common/parameter_spec.hpp"
 #include "roadcross/preprocess/rank.hpp"
-#include "roadcross/preprocess/sight.hpp"
-#include "roadcross/preprocess/terrain.hpp"
+#include "roadcross/preprocess/sight/sight.hpp"
+#include "roadcross/preprocess/terrain/terrain.hpp"
 
 namespace roadcross::preprocess {
 

@@ -8,8 +8,8 @@
 #include <optional>
 #include <vector>
 
-#include "roadcross/preprocess/parameter_spec.hpp"
-#include "roadcross/preprocess/segments.hpp"
+#include "roadcross/preprocess/common/parameter_spec.hpp"
+#include "roadcross/preprocess/graph/segments.hpp"
 
 namespace roadcross::preprocess {
 

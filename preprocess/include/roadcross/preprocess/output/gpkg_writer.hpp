@@ -1,0 +1,89 @@
+// Writes the road graph's segments and the metadata into a roadcross GeoPackage, atomically:
+// everything goes to a temporary file beside the target, renamed over it only on success.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "roadcross/preprocess/context/crossings.hpp"
+#include "roadcross/preprocess/graph/segments.hpp"
+
+namespace roadcross::sqlite {
+class Database;
+}
+
+namespace roadcross::preprocess {
+
+class Progress;
+
+struct DatabaseContents {
+  const RoadGraph* graph = nullptr;
+  /// Rows of the crossings table (may be null: an empty table).
+  const std::vector<Crossing>* crossings = nullptr;
+  /// Key/value pairs for roadcross_metadata (schema version, zone and segment count are added
+  /// by the writer).
+  std::vector<std::pair<std::string, std::string>> metadata;
+  /// gpkg_contents.last_change, ISO 8601. An input (the newest OSM timestamp), not "now", so
+  /// the output is byte-identical for identical inputs.
+  std::string last_change = "1970-01-01T00:00:00.000Z";
+};
+
+/// A temporary output file that is removed unless committed.
+class AtomicOutput {
+ public:
+  /// Creates `<target>.tmp-XXXXXX` beside `target`; throws OutputError if the directory is not
+  /// writable.
+  explicit AtomicOutput(std::string target);
+  AtomicOutput(const AtomicOutput&) = delete;
+  AtomicOutput& operator=(const AtomicOutput&) = delete;
+  ~AtomicOutput();
+
+  const std::string& temp_path() const noexcept { return temp_path_; }
+  const std::string& target_path() const noexcept { return target_; }
+  /// Renames the temporary file onto the target (atomic on POSIX file systems).
+  void commit();
+
+ private:
+  std::string target_;
+  std::string temp_path_;
+  bool committed_ = false;
+};
+
+/// Writes a roadcross GeoPackage in steps, so that the segments' spatial index (which needs
+/// only their lines) can be written on another thread while the cost stages fill the terms:
+///
+///     GeoPackageWriter writer(path, graph.zone, last_change);  // creates the tables
+///     auto index = std::async(std::launch::async, [&] { writer.write_segment_index(graph); });
+///     ...  // cost stages: they must not change the segments' number, ids or lines
+///     index.get();
+///     writer.finish(contents, progress);  // segment rows, crossings, metadata; closes the file
+///
+/// Methods throw OutputError (SQLite's message); the caller removes the file (AtomicOutput).
+class GeoPackageWriter {
+ public:
+  /// Creates the schema in `path` (a new or empty file) in an open transaction.
+  GeoPackageWriter(const std::string& path, const geo::UtmZone& zone,
+                   const std::string& last_change);
+  GeoPackageWriter(const GeoPackageWriter&) = delete;
+  GeoPackageWriter& operator=(const GeoPackageWriter&) = delete;
+  ~GeoPackageWriter();
+
+  /// The segments' R*Tree and extent. Reads only the segments' ids and lines.
+  void write_segment_index(const RoadGraph& graph);
+  /// Everything else, after write_segment_index() of the same graph has returned; commits.
+  void finish(const DatabaseContents& contents, Progress& progress);
+
+ private:
+  void write_rows_and_metadata(const DatabaseContents& contents, Progress& progress);
+
+  geo::UtmZone zone_;
+  std::string path_;
+  std::unique_ptr<sqlite::Database> db_;
+  schema::Envelope segment_extent_{};
+  std::optional<std::size_t> indexed_segments_;
+};
+
+}  // namespace roadcross::preprocess

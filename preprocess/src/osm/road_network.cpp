@@ -1,0 +1,253 @@
+#include "roadcross/preprocess/osm/road_network.hpp"
+
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <cstring>
+#include <osmium/handler.hpp>
+
+#include "roadcross/preprocess/osm/osm_pass.hpp"
+#include "roadcross/preprocess/common/errors.hpp"
+#include "roadcross/preprocess/common/progress.hpp"
+
+namespace roadcross::preprocess {
+
+std::string_view tag_value(const Tags& tags, std::string_view key) noexcept {
+  for (const auto& [k, v] : tags) {
+    if (k == key) return v;
+  }
+  return {};
+}
+
+bool is_kept_road_class(std::string_view highway) noexcept {
+  static constexpr std::array<std::string_view, 16> kKept = {
+      "motorway",  "motorway_link",  "trunk",    "trunk_link",    "primary",      "primary_link",
+      "secondary", "secondary_link", "tertiary", "tertiary_link", "unclassified", "residential",
+      "service",   "busway",         "road",     "living_street"};
+  return std::find(kKept.begin(), kKept.end(), highway) != kKept.end();
+}
+
+bool is_crossing_way(const Tags& tags) noexcept {
+  return (tag_value(tags, "footway") == "crossing" || tag_value(tags, "cycleway") == "crossing") &&
+         tag_value(tags, "area") != "yes";
+}
+
+const NodeLocation* RoadNetwork::find_location(std::int64_t node_id) const noexcept {
+  auto it = std::lower_bound(locations.begin(), locations.end(), node_id,
+                             [](const NodeLocation& n, std::int64_t id) { return n.osm_id < id; });
+  return (it != locations.end() && it->osm_id == node_id) ? &*it : nullptr;
+}
+
+namespace {
+
+Tags copy_tags(const osmium::TagList& tags) {
+  Tags out;
+  out.reserve(tags.size());
+  for (const osmium::Tag& tag : tags) out.emplace_back(tag.key(), tag.value());
+  return out;
+}
+
+bool is_area(const osmium::TagList& tags) {
+  const char* area = tags["area"];
+  return area && std::strcmp(area, "yes") == 0;
+}
+
+/// Keys that make a node on a road interesting to later stages (crossings, signals, ...).
+bool has_interesting_tag(const osmium::TagList& tags) {
+  static constexpr std::array<const char*, 7> kKeys = {
+      "highway",          "crossing",        "crossing_ref", "crossing:markings",
+      "crossing:signals", "traffic_signals", "barrier"};
+  return std::any_of(kKeys.begin(), kKeys.end(),
+                     [&](const char* key) { return tags.has_key(key); });
+}
+
+class RoadWayCollector : public osmium::handler::Handler {
+ public:
+  explicit RoadWayCollector(RoadNetwork& network) : network_(network) {}
+
+  void way(const osmium::Way& way) {
+    ++network_.ways_read;
+    note_timestamp(way);
+    const char* highway = way.tags()["highway"];
+    if (!highway || !is_kept_road_class(highway) || is_area(way.tags())) {
+      keep_crossing_way(way);
+      return;
+    }
+    RoadWay road;
+    road.osm_id = way.id();
+    road.highway = highway;
+    road.tags = copy_tags(way.tags());
+    road.node_ids.reserve(way.nodes().size());
+    for (const osmium::NodeRef& ref : way.nodes()) road.node_ids.push_back(ref.ref());
+    network_.ways.push_back(std::move(road));
+  }
+
+  /// footway=crossing / cycleway=crossing ways: ids and tags only, they are few.
+  void keep_crossing_way(const osmium::Way& way) {
+    const char* footway = way.tags()["footway"];
+    const char* cycleway = way.tags()["cycleway"];
+    const bool crossing = (footway && std::strcmp(footway, "crossing") == 0) ||
+                          (cycleway && std::strcmp(cycleway, "crossing") == 0);
+    if (!crossing || is_area(way.tags())) return;
+    CrossingWay kept;
+    kept.osm_id = way.id();
+    kept.tags = copy_tags(way.tags());
+    for (const osmium::NodeRef& ref : way.nodes()) kept.node_ids.push_back(ref.ref());
+    network_.crossing_ways.push_back(std::move(kept));
+  }
+
+  void note_timestamp(const osmium::OSMObject& object) {
+    network_.newest_timestamp_s = std::max<std::int64_t>(network_.newest_timestamp_s,
+                                                         object.timestamp().seconds_since_epoch());
+  }
+
+ private:
+  RoadNetwork& network_;
+};
+
+class NodeLocationCollector : public osmium::handler::Handler {
+ public:
+  NodeLocationCollector(RoadNetwork& network, const std::vector<std::int64_t>& wanted_sorted,
+                        const std::vector<std::int64_t>& crossing_only_sorted)
+      : network_(network), wanted_(wanted_sorted), crossing_only_(crossing_only_sorted) {
+    // At most one location per wanted node (a file with a node twice grows it): grown by
+    // doubling, the table would hold up to twice that until the network is freed.
+    network_.locations.reserve(wanted_.size());
+  }
+
+  void node(const osmium::Node& node) {
+    ++network_.nodes_read;
+    network_.newest_timestamp_s =
+        std::max<std::int64_t>(network_.newest_timestamp_s, node.timestamp().seconds_since_epoch());
+    if (!std::binary_search(wanted_.begin(), wanted_.end(), node.id())) {
+      keep_crossing_way_node(node);
+      return;
+    }
+    const osmium::Location location = node.location();
+    if (!location.valid()) return;  // deleted or invalid coordinates: treated as missing
+    network_.locations.push_back({node.id(), location.lat(), location.lon()});
+    if (!node.tags().empty() && has_interesting_tag(node.tags())) {
+      network_.tagged_nodes.push_back({node.id(), copy_tags(node.tags())});
+    }
+  }
+
+ private:
+  void keep_crossing_way_node(const osmium::Node& node) {
+    if (!std::binary_search(crossing_only_.begin(), crossing_only_.end(), node.id())) return;
+    if (!node.location().valid()) return;
+    network_.crossing_way_locations.push_back(
+        {node.id(), node.location().lat(), node.location().lon()});
+  }
+
+  RoadNetwork& network_;
+  const std::vector<std::int64_t>& wanted_;
+  const std::vector<std::int64_t>& crossing_only_;
+};
+
+/// Hands the objects of the passes to an ExtraOsmReader.
+class ExtraHandler : public osmium::handler::Handler {
+ public:
+  explicit ExtraHandler(ExtraOsmReader& reader) : reader_(reader) {}
+  void way(const osmium::Way& way) { reader_.way(way); }
+  void relation(const osmium::Relation& relation) { reader_.relation(relation); }
+  void node(const osmium::Node& node) { reader_.node(node); }
+
+ private:
+  ExtraOsmReader& reader_;
+};
+
+/// One pass with the road network's handler and, when there is one, the extra reader's.
+template <typename Handler>
+void read_pass(const std::string& path, osmium::osm_entity_bits::type entities, Handler& handler,
+               ExtraOsmReader* extra, Progress& progress) {
+  if (!extra) return read_osm_pass(path, entities, progress, handler);
+  ExtraHandler extra_handler(*extra);
+  read_osm_pass(path, entities, progress, handler, extra_handler);
+}
+
+void check_readable(const std::string& path) {
+  struct stat status {};
+  if (::stat(path.c_str(), &status) != 0) {
+    throw InputError(path, std::string("cannot open OSM file: ") + std::strerror(errno));
+  }
+  if (!S_ISREG(status.st_mode)) throw InputError(path, "not a regular file");
+  if (status.st_size == 0) throw InputError(path, "the OSM file is empty (0 bytes)");
+}
+
+template <typename T>
+void sort_by_id_unique(std::vector<T>& items) {
+  std::sort(items.begin(), items.end(), [](const T& a, const T& b) { return a.osm_id < b.osm_id; });
+  items.erase(std::unique(items.begin(), items.end(),
+                          [](const T& a, const T& b) { return a.osm_id == b.osm_id; }),
+              items.end());
+  // The tables grew by doubling and are held through segmenting, the build's peak: the spare
+  // capacity (up to half) is given back while the reading's own buffers are larger anyway.
+  items.shrink_to_fit();
+}
+
+}  // namespace
+
+RoadNetwork read_road_network(const std::string& path, Progress& progress, ExtraOsmReader* extra) {
+  check_readable(path);
+  RoadNetwork network;
+  network.source_path = path;
+  try {
+    progress.start_stage("reading road ways", "MB");
+    RoadWayCollector ways(network);
+    const auto first_pass = extra && extra->wants_relations()
+                                ? osmium::osm_entity_bits::way | osmium::osm_entity_bits::relation
+                                : osmium::osm_entity_bits::way;
+    read_pass(path, first_pass, ways, extra, progress);
+    if (extra) extra->ways_done();
+    sort_by_id_unique(network.ways);
+    sort_by_id_unique(network.crossing_ways);
+    progress.finish_stage(std::to_string(network.ways.size()) + " road ways of " +
+                          std::to_string(network.ways_read) + " ways");
+
+    std::vector<std::int64_t> wanted;
+    for (const RoadWay& way : network.ways)
+      wanted.insert(wanted.end(), way.node_ids.begin(), way.node_ids.end());
+    std::sort(wanted.begin(), wanted.end());
+    wanted.erase(std::unique(wanted.begin(), wanted.end()), wanted.end());
+
+    // Nodes of crossing ways that no road uses (their locations find where they cross a road).
+    std::vector<std::int64_t> crossing_only;
+    for (const CrossingWay& way : network.crossing_ways) {
+      for (std::int64_t id : way.node_ids) {
+        if (!std::binary_search(wanted.begin(), wanted.end(), id)) crossing_only.push_back(id);
+      }
+    }
+    std::sort(crossing_only.begin(), crossing_only.end());
+    crossing_only.erase(std::unique(crossing_only.begin(), crossing_only.end()),
+                        crossing_only.end());
+
+    progress.start_stage("reading node locations", "MB");
+    NodeLocationCollector nodes(network, wanted, crossing_only);
+    read_pass(path, osmium::osm_entity_bits::node, nodes, extra, progress);
+    if (extra) extra->nodes_done();
+    sort_by_id_unique(network.locations);
+    sort_by_id_unique(network.crossing_way_locations);
+    sort_by_id_unique(network.tagged_nodes);
+    network.missing_locations = wanted.size() - network.locations.size();
+    progress.finish_stage(std::to_string(network.locations.size()) + " road nodes of " +
+                          std::to_string(network.nodes_read) + " nodes");
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    // libosmium's XML errors already say "XML parsing error at line L, column C: ...".
+    throw InputError(path, std::string("not readable as OSM data: ") + e.what());
+  }
+  if (network.ways_read == 0 && network.nodes_read == 0) {
+    throw InputError(path, "contains no OSM nodes or ways (is it an OSM file?)");
+  }
+  if (network.ways.empty()) {
+    throw InputError(path, "contains " + std::to_string(network.ways_read) +
+                               " ways but none is a road of a kept class (highway=primary, "
+                               "secondary, tertiary, residential, service, ...)");
+  }
+  return network;
+}
+
+}  // namespace roadcross::preprocess

@@ -1,0 +1,466 @@
+#include "roadcross/preprocess/output/gpkg_writer.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <future>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <random>
+#include <stdexcept>
+
+#include "roadcross/preprocess/output/bulk_insert.hpp"
+#include "roadcross/preprocess/common/errors.hpp"
+#include "roadcross/preprocess/common/interrupt.hpp"
+#include "roadcross/preprocess/common/progress.hpp"
+#include "roadcross/preprocess/output/rtree_bulk_load.hpp"
+#include "roadcross/schema/gpkg_geometry.hpp"
+#include "roadcross/schema/schema.hpp"
+#include "roadcross/schema/sqlite.hpp"
+
+namespace roadcross::preprocess {
+
+AtomicOutput::AtomicOutput(std::string target) : target_(std::move(target)) {
+  // Not mkstemp: the interrupt handler must know the name before the file exists (a signal
+  // between creating and registering it would leave a file behind), so the name is chosen and
+  // registered first, then created exclusively.
+  std::random_device entropy;
+  constexpr char kLetters[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789";
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    std::string candidate = target_ + ".tmp-";
+    for (int i = 0; i < 6; ++i) candidate += kLetters[entropy() % (sizeof kLetters - 1)];
+    set_interrupt_cleanup_path(candidate.c_str());
+    const int fd = ::open(candidate.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+    if (fd >= 0) {
+      ::close(fd);
+      temp_path_ = std::move(candidate);
+      return;
+    }
+    set_interrupt_cleanup_path(nullptr);
+    if (errno != EEXIST) {
+      throw OutputError(target_ + ": cannot create the output (temporary file " + candidate +
+                        "): " + std::strerror(errno));
+    }
+  }
+  throw OutputError(target_ + ": cannot create the output: 100 temporary names taken");
+}
+
+AtomicOutput::~AtomicOutput() {
+  if (!committed_) {
+    std::remove(temp_path_.c_str());
+    std::remove((temp_path_ + "-journal").c_str());
+    std::remove((temp_path_ + kSideRowsSuffix).c_str());
+  }
+  // Only now: a signal before this line removes what is already gone, which is harmless.
+  set_interrupt_cleanup_path(nullptr);
+}
+
+void AtomicOutput::commit() {
+  // mkstemp creates 0600; a map is meant to be shared like any other output file.
+  const mode_t mask = ::umask(0);
+  ::umask(mask);
+  ::chmod(temp_path_.c_str(), 0666 & ~mask);
+  if (std::rename(temp_path_.c_str(), target_.c_str()) != 0) {
+    throw OutputError(target_ +
+                      ": cannot move the finished output into place: " + std::strerror(errno));
+  }
+  committed_ = true;
+  set_interrupt_cleanup_path(nullptr);
+}
+
+namespace {
+
+void result(sqlite3_context* out, MaybeInt value) {
+  if (value) sqlite3_result_int64(out, *value);
+}
+
+void result(sqlite3_context* out, MaybeFloat value) {
+  // Written as the float's exact value, so that a value reads back the same from the DB.
+  if (value) sqlite3_result_double(out, static_cast<double>(*value));
+}
+
+void result(sqlite3_context* out, bool value) {
+  sqlite3_result_int(out, value ? 1 : 0);
+}
+
+/// A text that outlives the insert (interned in the graph, or a static name): not copied.
+void result_lasting_text(sqlite3_context* out, std::string_view text) {
+  sqlite3_result_text(out, text.data(), static_cast<int>(text.size()), SQLITE_STATIC);
+}
+
+/// A text that may be absent (nullptr: NULL).
+void result_lasting_text(sqlite3_context* out, const std::string* text) {
+  if (text) result_lasting_text(out, *text);
+}
+
+/// The segments table's rows: fid, geom, then schema::segment_columns() in order.
+class SegmentRows final : public RowSource {
+ public:
+  static constexpr int kColumns = 39;
+
+  /// Rows [first, last) of the graph's segments.
+  SegmentRows(const RoadGraph& graph, std::size_t first, std::size_t last)
+      : graph_(graph), first_(first), count_(last - first), srs_id_(graph.zone.epsg()) {
+    // The column list lives in schema/; a column added there but not here must fail loudly.
+    if (2 + static_cast<int>(schema::segment_columns().size()) != kColumns) {
+      throw std::logic_error("the segments writer knows " + std::to_string(kColumns) +
+                             " columns, the schema has " +
+                             std::to_string(2 + schema::segment_columns().size()));
+    }
+  }
+  std::size_t row_count() const override { return count_; }
+  int column_count() const override { return kColumns; }
+
+  void column(std::size_t row, int column, sqlite3_context* out) const override {
+    const std::size_t index = first_ + row;
+    const Segment& s = graph_.segments[index];
+    switch (column) {
+      case 0:
+        return sqlite3_result_int64(out, RoadGraph::id_at(index));
+      case 1: {
+        const std::vector<std::uint8_t> blob = schema::encode_linestring(graph_.line(s), srs_id_);
+        return sqlite3_result_blob(out, blob.data(), static_cast<int>(blob.size()),
+                                   SQLITE_TRANSIENT);
+      }
+      case 2:
+        return sqlite3_result_int64(out, graph_.osm_way_id(s));
+      case 3:
+        return result_lasting_text(out, graph_.highway(s));
+      case 4: {
+        const InternedText name = graph_.name(s);
+        return name.empty() ? void() : result_lasting_text(out, name);
+      }
+      case 5:
+        return sqlite3_result_double(out, graph_.length_m(s));
+      case 6:
+        return sqlite3_result_int64(out, graph_.from_node_id(s));
+      case 7:
+        return sqlite3_result_int64(out, graph_.to_node_id(s));
+      case 8:
+        return result(out, s.oneway);
+      case 9:
+        return result(out, s.tunnel);
+      case 10:
+        return result(out, s.bridge);
+      case 11:
+        return result(out, graph_.class_cost(s));
+      case 12:
+        return result(out, s.junction_distance_m);
+      case 13:
+        return result(out, s.radius_m);
+      case 14:
+        return result(out, s.curvature_level);
+      case 15:
+        return result(out, s.curvature_cost);
+      case 16:
+        return result(out, s.elevation_m);
+      case 17:
+        return result(out, s.slope_deg);
+      case 18:
+        return result(out, s.grade_percent);
+      case 19:
+        return result(out, s.tpi_small_m);
+      case 20:
+        return result(out, s.tpi_large_m);
+      case 21:
+        return s.landform.text() ? result_lasting_text(out, s.landform.text()) : void();
+      case 22:
+        return result(out, s.elevation_cost);
+      case 23:
+        return result(out, graph_.maxspeed_kmh(s));
+      case 24:
+        return result(out, graph_.lanes(s));
+      case 25:
+        return result(out, graph_.width_m(s));
+      case 26:
+        return result(out, s.context_score);
+      case 27:
+        return result(out, s.crossing_distance_m);
+      case 28:
+        return result_lasting_text(out, graph_.context_defaulted(s));
+      case 29:
+        return result_lasting_text(out, graph_.override_note(s));
+      case 30:
+        return result(out, s.override_no_crossing);
+      case 31:
+        return result(out, s.override_force_suitable);
+      case 32:
+        return result(out, s.rank);
+      case 33:
+        return result(out, s.score());
+      case 34: {
+        const std::string reasons = s.reasons.joined(',');
+        return sqlite3_result_text(out, reasons.data(), static_cast<int>(reasons.size()),
+                                   SQLITE_TRANSIENT);
+      }
+      case 35:
+        return result(out, s.sight_forward_m);
+      case 36:
+        return result(out, s.sight_backward_m);
+      case 37:
+        return result(out, s.sight_min_m);
+      case 38:
+        return result(out, s.required_sight_m);
+      default:
+        throw std::logic_error("segments writer: no column " + std::to_string(column));
+    }
+  }
+
+ private:
+  const RoadGraph& graph_;
+  std::size_t first_, count_;
+  std::int32_t srs_id_;
+};
+
+std::string segment_column_list() {
+  std::string names = "fid, geom";
+  for (const schema::Column& column : schema::segment_columns()) {
+    names += ", " + std::string(column.name);
+  }
+  return names;
+}
+
+/// Inserts every segment row, on both cores: the second half goes into a side database
+/// (`<path>-rows`, same table) on a second thread while the first half goes into `db`; then
+/// SQLite copies the side table's records into `db` without decoding them (its "xfer"
+/// optimisation of INSERT INTO t SELECT * FROM t2: ~1 us a row instead of ~3 us to encode one).
+/// The rows and their order are the same as one insert of all rows.
+void write_segment_rows(sqlite::Database& db, const std::string& db_path, const RoadGraph& graph,
+                        Progress& progress) {
+  const std::size_t total = graph.segments.size();
+  const std::size_t split = total / 2;
+  const std::string side_path = db_path + kSideRowsSuffix;
+  std::string create_table;
+  {
+    auto query = db.prepare("SELECT sql FROM sqlite_master WHERE type = 'table' AND name = ?");
+    query.bind(1, schema::kSegmentsTable);
+    if (!query.step()) throw std::logic_error("no segments table to write into");
+    create_table = query.column_text(0);
+  }
+  std::atomic<std::size_t> side_rows_done{0};
+  // Set when the first half fails (a full disk): the side thread then interrupts its own
+  // statement at its next progress call (every 4096 rows), so that the error reaches the user at
+  // once, not after the second half is encoded (seconds at country scale).
+  std::atomic<bool> stop_side{false};
+  std::future<void> side = std::async(std::launch::async, [&] {
+    sqlite::Database side_db(side_path,
+                             SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOMUTEX);
+    side_db.exec("PRAGMA page_size = 4096");
+    side_db.exec("PRAGMA journal_mode = OFF");
+    side_db.exec("PRAGMA synchronous = OFF");
+    side_db.exec("BEGIN");
+    side_db.exec(create_table);
+    insert_rows(side_db.handle(), schema::kSegmentsTable, segment_column_list(),
+                SegmentRows(graph, split, total), [&](std::size_t done) {
+                  side_rows_done = done;
+                  if (stop_side) sqlite3_interrupt(side_db.handle());
+                });
+    side_db.exec("COMMIT");
+  });
+  try {
+    insert_rows(db.handle(), schema::kSegmentsTable, segment_column_list(),
+                SegmentRows(graph, 0, split),
+                [&](std::size_t done) { progress.update(done + side_rows_done, total); });
+  } catch (...) {
+    stop_side = true;
+    side.wait();  // it reads the graph and writes the side file: let it stop first
+    std::remove(side_path.c_str());
+    throw;
+  }
+  try {
+    side.get();
+  } catch (...) {
+    std::remove(side_path.c_str());
+    throw;
+  }
+  std::string table = "\"";  // (not "\"" + ...: GCC 12 warns falsely, -Wrestrict)
+  table += schema::kSegmentsTable;
+  table += '"';
+  // ATTACH cannot run inside a transaction; with journal_mode OFF, COMMIT and BEGIN only end and
+  // start the batch (nothing is synced).
+  db.exec("COMMIT");
+  sqlite::Statement attach = db.prepare("ATTACH DATABASE ? AS side_rows");
+  attach.bind(1, side_path);
+  attach.run();
+  db.exec("BEGIN");
+  db.exec("INSERT INTO main." + table + " SELECT * FROM side_rows." + table);
+  db.exec("COMMIT");
+  db.exec("DETACH DATABASE side_rows");
+  std::remove(side_path.c_str());
+  db.exec("BEGIN");
+  progress.update(total, total);
+}
+
+/// The extent of nothing: grow() with any box gives that box.
+constexpr schema::Envelope kEmptyEnvelope{
+    std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+    std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+
+void grow(schema::Envelope& extent, const schema::Envelope& box) {
+  extent.min_x = std::min(extent.min_x, box.min_x);
+  extent.max_x = std::max(extent.max_x, box.max_x);
+  extent.min_y = std::min(extent.min_y, box.min_y);
+  extent.max_y = std::max(extent.max_y, box.max_y);
+}
+
+/// Fills the R*Tree with every segment's bounding box (bulk load: see rtree_bulk_load.hpp);
+/// returns the extent of all segments.
+schema::Envelope write_segment_rtree(sqlite::Database& db, const RoadGraph& graph) {
+  schema::Envelope extent = kEmptyEnvelope;
+  for (const Segment& s : graph.segments) grow(extent, schema::envelope_of(graph.line(s)));
+  // The boxes are computed from the lines as the load needs them, not held: this runs beside
+  // the cost stages, at the build's peak memory.
+  bulk_load_rtree(
+      db.handle(), std::string(schema::kSegmentsRtree), graph.segments.size(), [&](std::size_t i) {
+        return RtreeEntry{RoadGraph::id_at(i), schema::envelope_of(graph.line(graph.segments[i]))};
+      });
+  return extent;
+}
+
+/// Inserts the crossing points (fid 1..n in the given order) and fills their R*Tree; returns
+/// their extent, or nullopt when there are none.
+std::optional<schema::Envelope> write_crossings(sqlite::Database& db,
+                                                const std::vector<Crossing>& crossings,
+                                                std::int32_t srs_id) {
+  std::string names = "fid, geom", params = "?, ?";
+  for (const schema::Column& column : schema::crossing_columns()) {
+    names += ", " + std::string(column.name);
+    params += ", ?";
+  }
+  sqlite::Statement insert = db.prepare("INSERT INTO " + std::string(schema::kCrossingsTable) +
+                                        " (" + names + ") VALUES (" + params + ")");
+  std::vector<RtreeEntry> entries;
+  std::int64_t fid = 0;
+  for (const Crossing& c : crossings) {
+    int i = 1;
+    insert.bind(i++, ++fid);
+    insert.bind(i++, std::span<const std::uint8_t>(schema::encode_point(c.point, srs_id)));
+    insert.bind(i++, c.osm_id);
+    insert.bind(i++, c.osm_type);
+    insert.bind(i++, c.kind.type);
+    insert.bind(i++, int{c.kind.signals});
+    insert.bind(i++, int{c.kind.designated});
+    insert.bind(i++, c.segment_id);
+    if (i - 1 != insert.parameter_count()) throw std::logic_error("crossings insert: column count");
+    insert.run();
+    entries.push_back({fid, schema::Envelope{c.point.x, c.point.x, c.point.y, c.point.y}});
+  }
+  bulk_load_rtree(db.handle(), std::string(schema::kCrossingsRtree), entries);
+  if (entries.empty()) return std::nullopt;
+  schema::Envelope extent = kEmptyEnvelope;
+  for (const RtreeEntry& e : entries) grow(extent, e.box);
+  return extent;
+}
+
+}  // namespace
+
+GeoPackageWriter::GeoPackageWriter(const std::string& path, const geo::UtmZone& zone,
+                                   const std::string& last_change)
+    : zone_(zone), path_(path) {
+  try {
+    db_ = std::make_unique<sqlite::Database>(
+        path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOMUTEX);
+    // The file is private until renamed into place, so durability tricks are unnecessary:
+    // no journal, no fsync; a fixed page size keeps the bytes identical across runs.
+    db_->exec("PRAGMA page_size = 4096");
+    db_->exec("PRAGMA journal_mode = OFF");
+    db_->exec("PRAGMA synchronous = OFF");
+    // A 64 MiB page cache: rows arrive in rowid order and the R*Tree is bulk-loaded, so a
+    // larger cache only adds to the peak memory (256 MiB cost 190 MB more at 50x Monaco for
+    // the same writing time).
+    db_->exec("PRAGMA cache_size = -65536");
+    db_->exec("BEGIN");
+    for (const std::string& statement :
+         schema::create_statements(zone.zone, zone.northern, last_change)) {
+      db_->exec(statement);
+    }
+  } catch (const sqlite::sqlite_error& e) {
+    throw OutputError(std::string("cannot write the database: ") + e.what());
+  }
+}
+
+GeoPackageWriter::~GeoPackageWriter() = default;
+
+void GeoPackageWriter::write_segment_index(const RoadGraph& graph) {
+  try {
+    segment_extent_ = write_segment_rtree(*db_, graph);
+    indexed_segments_ = graph.segments.size();
+    // The index's pages (up to the 64 MiB cache, dirty in the open transaction) are written to
+    // the file now and their memory freed: the cost stages after it (the terrain stage's tiles
+    // and stored grid, the sight stage's obstacles) make the build's peak. The same pages are
+    // written either way, so the same bytes.
+    if (const int rc = sqlite3_db_cacheflush(db_->handle()); rc != SQLITE_OK) {
+      throw sqlite::sqlite_error(rc, sqlite3_errmsg(db_->handle()));
+    }
+    sqlite3_db_release_memory(db_->handle());
+  } catch (const sqlite::sqlite_error& e) {
+    throw OutputError(std::string("cannot write the database: ") + e.what());
+  }
+}
+
+void GeoPackageWriter::finish(const DatabaseContents& contents, Progress& progress) {
+  const RoadGraph& graph = *contents.graph;
+  if (!indexed_segments_ || *indexed_segments_ != graph.segments.size()) {
+    throw std::logic_error("GeoPackageWriter::finish before write_segment_index of this graph");
+  }
+  progress.start_stage("writing the GeoPackage", "segments");
+  try {
+    write_rows_and_metadata(contents, progress);
+    // Only now: a statement still open would keep sqlite3_close from closing the file.
+    db_.reset();
+  } catch (const sqlite::sqlite_error& e) {
+    throw OutputError(std::string("cannot write the database: ") + e.what());
+  }
+  progress.finish_stage(std::to_string(graph.segments.size()) + " segments, " +
+                        std::to_string(contents.crossings ? contents.crossings->size() : 0) +
+                        " crossings");
+}
+
+void GeoPackageWriter::write_rows_and_metadata(const DatabaseContents& contents,
+                                               Progress& progress) {
+  const RoadGraph& graph = *contents.graph;
+  sqlite::Database& db = *db_;
+  write_segment_rows(db, path_, graph, progress);
+  auto update = db.prepare(
+      "UPDATE gpkg_contents SET min_x = ?, min_y = ?, max_x = ?, max_y = ? WHERE table_name = "
+      "?");
+  const auto set_extent = [&](const schema::Envelope& e, std::string_view table) {
+    update.bind(1, e.min_x);
+    update.bind(2, e.min_y);
+    update.bind(3, e.max_x);
+    update.bind(4, e.max_y);
+    update.bind(5, table);
+    update.run();
+  };
+  set_extent(segment_extent_, schema::kSegmentsTable);
+  if (contents.crossings) {
+    const auto crossing_extent = write_crossings(db, *contents.crossings, zone_.epsg());
+    if (crossing_extent) set_extent(*crossing_extent, schema::kCrossingsTable);
+  }
+  for (const std::string& statement : schema::rtree_trigger_statements()) db.exec(statement);
+
+  auto insert_meta =
+      db.prepare("INSERT INTO " + std::string(schema::kMetadataTable) + " VALUES (?, ?)");
+  auto put = [&](std::string_view key, const std::string& value) {
+    insert_meta.bind(1, key);
+    insert_meta.bind(2, value);
+    insert_meta.run();
+  };
+  put(schema::meta::kSchemaVersion, std::to_string(schema::kSchemaVersion));
+  put(schema::meta::kUtmZone, std::to_string(zone_.zone));
+  put(schema::meta::kUtmNorthern, zone_.northern ? "1" : "0");
+  put(schema::meta::kEpsg, std::to_string(zone_.epsg()));
+  put(schema::meta::kSegmentCount, std::to_string(graph.segments.size()));
+  for (const auto& [key, value] : contents.metadata) put(key, value);
+  db.exec("COMMIT");
+}
+
+}  // namespace roadcross::preprocess
