@@ -38,4 +38,15 @@ std::optional<Map> open_map_or_report(const std::string& path) {
   return std::move(*map.value);
 }
 
+std::string road_label(const NearestRoad& road) {
+  const std::string name = road.name.empty() ? "(unnamed)" : road.name;
+  return name + " (" + road.highway + ", OSM way " + std::to_string(road.osm_way_id) +
+         ", segment " + std::to_string(road.segment_id) + ")";
+}
+
+int report_error(const Status& status) {
+  std::cerr << "roadcross: " << status.message << "\n";
+  return 1;
+}
+
 }  // namespace roadcross::cli

@@ -27,4 +27,10 @@ struct QueryOptions {
 /// Opens the DB or prints the runtime's message and returns nullopt.
 std::optional<Map> open_map_or_report(const std::string& path);
 
+/// "Name (highway, OSM way W, segment S)" for the text answers.
+std::string road_label(const NearestRoad& road);
+
+/// Prints the runtime's error on stderr; returns the exit code 1.
+int report_error(const Status& status);
+
 }  // namespace roadcross::cli

@@ -6,44 +6,6 @@
 #include "json_output.hpp"
 
 namespace roadcross::cli {
-namespace {
-
-std::string road_label(const NearestRoad& road) {
-  const std::string name = road.name.empty() ? "(unnamed)" : road.name;
-  return name + " (" + road.highway + ", OSM way " + std::to_string(road.osm_way_id) +
-         ", segment " + std::to_string(road.segment_id) + ")";
-}
-
-int report_error(const Status& status) {
-  std::cerr << "roadcross: " << status.message << "\n";
-  return 1;
-}
-
-}  // namespace
-
-NearestCommand::NearestCommand(CLI::App& parent) {
-  app_ = parent.add_subcommand("nearest", "the road centreline nearest to a position");
-  query_.add_to(*app_);
-  app_->add_option("--max-distance", max_distance_m_, "search radius, metres")
-      ->capture_default_str();
-}
-
-int NearestCommand::run() {
-  std::optional<Map> map = open_map_or_report(query_.db_path);
-  if (!map) return 1;
-  const Result<NearestRoad> road = map->nearest(query_.position(), max_distance_m_);
-  if (!road.ok()) return report_error(road.status);
-  if (query_.json) {
-    std::cout << road_json(*road).dump(2) << "\n";
-    return 0;
-  }
-  std::printf("road      %s\n", road_label(*road).c_str());
-  std::printf("distance  %.2f m\n", road->distance_m);
-  std::printf("closest   E %.2f N %.2f (UTM zone %d%s)\n", road->closest.easting_m,
-              road->closest.northing_m, map->info().zone.zone,
-              map->info().zone.northern ? "N" : "S");
-  return 0;
-}
 
 HeadingCommand::HeadingCommand(CLI::App& parent) {
   app_ = parent.add_subcommand("heading", "the road's direction and the heading that crosses it");
