@@ -26,6 +26,9 @@ void SuitabilityParameters::describe(std::vector<ParameterSpec>& out) {
   out.push_back(
       {"suitability", "valid_distance_m", &valid_distance_m, 0, 1000, false,
        "a position is valid within this distance of a road centreline, metres (thesis 10)"});
+  out.push_back({"suitability", "max_kerb_height_m", &max_kerb_height_m, 0, 1, false,
+                 "highest kerb the robot climbs, metres: a higher known kerb is KERB_TOO_HIGH "
+                 "(robot profiles in docs/profiles; 1 = no limit)"});
 }
 
 std::vector<ParameterSpec> Parameters::specs() {

@@ -62,6 +62,22 @@ const std::vector<Column>& segment_columns() {
       {"sight_min_m", "REAL", "the smaller of sight_forward_m and sight_backward_m, metres"},
       {"required_sight_m", "REAL",
        "distance a vehicle at the road's speed covers while the robot crosses, metres"},
+      // Kerbs, refuge islands and pavements (schema version 3).
+      {"kerb", "TEXT",
+       "kerb=* value of the highest kerb at a crossing or kerb node on or within 5 m of the "
+       "segment (raised, lowered, flush, rolled, no, ...; 'yes' for barrier=kerb without "
+       "kerb=*); NULL when none is tagged"},
+      {"kerb_height_m", "REAL",
+       "height of that kerb: kerb:height, else the usual height of its kerb=* value (flush, no "
+       "0; lowered, rolled 0.03; raised 0.12), metres; NULL when unknown"},
+      {"crossing_island", "INTEGER",
+       "1: the crossing here has a refuge island (crossing:island=yes, traffic_calming=island), "
+       "0: crossing:island=no; NULL when unknown"},
+      {"sidewalk_left", "INTEGER",
+       "1: a pavement on the left of the OSM way's direction (sidewalk=*, sidewalk:left, "
+       "sidewalk:both, or a footway=sidewalk way alongside), 0: tagged without one; NULL when "
+       "unknown"},
+      {"sidewalk_right", "INTEGER", "the same on the right of the way's direction"},
   };
   return columns;
 }

@@ -92,6 +92,27 @@ TEST(ParameterFile, ShippedProfilesLoad) {
   }
 }
 
+TEST(ParameterFile, RobotProfilesLoad) {
+  // The values the profiles' comments derive from their sources (docs/profiles/*.ini).
+  struct Expected {
+    const char* name;
+    double max_kerb_height_m, crossing_speed_mps, sensor_height_m;
+  };
+  for (const Expected& e :
+       {Expected{"delivery-robot.ini", 0.04, 1.67, 0.55}, Expected{"husky.ini", 0.10, 1.0, 0.39},
+        Expected{"spot.ini", 0.30, 1.6, 0.84}}) {
+    SCOPED_TRACE(e.name);
+    rp::Parameters p;
+    rp::read_parameter_file(std::string(ROADCROSS_TEST_DATA_DIR) + "/../../docs/profiles/" + e.name,
+                            p);
+    p.validate();
+    EXPECT_DOUBLE_EQ(p.suitability.max_kerb_height_m, e.max_kerb_height_m);
+    EXPECT_DOUBLE_EQ(p.sight.crossing_speed_mps, e.crossing_speed_mps);
+    EXPECT_DOUBLE_EQ(p.sight.sensor_height_m, e.sensor_height_m);
+    EXPECT_EQ(p.context.crossing_points, rp::Parameters{}.context.crossing_points);  // untouched
+  }
+}
+
 TEST(ParameterFile, MissingFile) {
   rp::Parameters p;
   EXPECT_THROW(rp::read_parameter_file("/nonexistent/roadcross.ini", p), rp::ParameterError);

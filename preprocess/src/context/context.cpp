@@ -112,6 +112,10 @@ int context_score(double maxspeed_kmh, int lanes, double width_m, std::string_vi
 
 namespace {
 
+/// How far beyond the carriageway's edge a separately mapped footway=sidewalk may run and still
+/// be the road's pavement, metres: room for a verge or a parking lane, not for the next street.
+constexpr double kSidewalkBeyondEdgeM = 8.0;
+
 struct CountryBox {
   const char* country;
   double min_lat, max_lat, min_lon, max_lon;
@@ -207,6 +211,10 @@ std::vector<std::string> ContextReport::summary_lines() const {
   lines.push_back("crossings: " + std::to_string(crossings.size()) + " (" + std::to_string(nodes) +
                   " nodes, " + std::to_string(crossings.size() - nodes) + " from crossing ways), " +
                   std::to_string(designated) + " designated");
+  lines.push_back("kerbs: a known kerb height on " + std::to_string(kerb_segments) +
+                  " segments, a refuge island on " + std::to_string(island_segments) +
+                  "; pavement known on " + std::to_string(pavement_sides_known) + " of " +
+                  std::to_string(pavement_sides) + " road sides");
   lines.push_back("BUSY_ROAD on " + std::to_string(busy_segments) + " segments");
   if (override_segments > 0 || !unmatched_overrides.empty()) {
     lines.push_back("overrides touched " + std::to_string(override_segments) + " segments");
@@ -241,6 +249,16 @@ ContextReport compute_way_context(RoadGraph& graph, const RoadNetwork& network,
   }
 
   report.crossings = find_crossings(network, graph);
+  assign_kerbs(graph, network, report.crossings, p.crossing_distance_max_m);
+  assign_sidewalks(graph, network, kSidewalkBeyondEdgeM);
+  for (const auto& [index, facts] : graph.kerbs) {
+    report.kerb_segments += facts.kerb_height_m ? 1 : 0;
+    report.island_segments += facts.island.value_or(false) ? 1 : 0;
+  }
+  for (const RoadPiece& piece : graph.pieces) {
+    report.pavement_sides_known += (piece.sidewalks.left ? 1 : 0) + (piece.sidewalks.right ? 1 : 0);
+  }
+  report.pavement_sides = 2 * graph.pieces.size();
   // The score depends on the segment only through its way (the highway is the way's) and
   // whether a crossing is near: both scores are kept per way, and finish_context picks one
   // once the crossing distances are known (their search runs after the network is freed).

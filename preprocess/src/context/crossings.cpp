@@ -7,6 +7,8 @@
 #include <queue>
 #include <unordered_map>
 
+#include "roadcross/preprocess/context/kerb_tags.hpp"
+
 namespace roadcross::preprocess {
 
 namespace {
@@ -167,6 +169,18 @@ double distance(PlanePoint a, PlanePoint b) {
   return std::hypot(a.x - b.x, a.y - b.y);
 }
 
+/// Tags of a node of a road way or of a crossing way that carries interesting tags, or null.
+const Tags* node_tags(const RoadNetwork& network, std::int64_t id) {
+  for (const std::vector<TaggedNode>* list :
+       {&network.tagged_nodes, &network.crossing_way_tagged_nodes}) {
+    const auto it =
+        std::lower_bound(list->begin(), list->end(), id,
+                         [](const TaggedNode& n, std::int64_t v) { return n.osm_id < v; });
+    if (it != list->end() && it->osm_id == id) return &it->tags;
+  }
+  return nullptr;
+}
+
 class CrossingFinder {
  public:
   CrossingFinder(const RoadNetwork& network, const RoadGraph& graph)
@@ -181,6 +195,16 @@ class CrossingFinder {
     std::sort(wanted.begin(), wanted.end());
     wanted.erase(std::unique(wanted.begin(), wanted.end()), wanted.end());
     places_ = place_nodes(graph, wanted);
+    way_kerbs_.reserve(network.crossing_ways.size());
+    for (std::size_t w = 0; w < network.crossing_ways.size(); ++w) {
+      const CrossingWay& way = network.crossing_ways[w];
+      KerbFacts facts = kerb_facts(way.tags);
+      for (std::int64_t id : way.node_ids) {
+        if (const Tags* tags = node_tags(network, id)) merge_kerb_facts(facts, kerb_facts(*tags));
+        ways_through_[id].push_back(w);
+      }
+      way_kerbs_.push_back(std::move(facts));
+    }
   }
 
   std::vector<Crossing> find() {
@@ -202,6 +226,10 @@ class CrossingFinder {
     c.osm_id = node.osm_id;
     c.osm_type = "node";
     c.kind = *kind;
+    c.kerb = kerb_facts(node.tags);
+    if (const auto ways = ways_through_.find(node.osm_id); ways != ways_through_.end()) {
+      for (std::size_t w : ways->second) merge_kerb_facts(c.kerb, way_kerbs_[w]);
+    }
     out.push_back(std::move(c));
     crossing_nodes_.push_back(node.osm_id);
   }
@@ -242,6 +270,9 @@ class CrossingFinder {
 
   void add_way(const CrossingWay& way, const EdgeGrid& grid, std::vector<Crossing>& out) {
     const CrossingKind kind = way_crossing_kind(way.tags);
+    const KerbFacts& kerb =
+        way_kerbs_[static_cast<std::size_t>(&way - network_.crossing_ways.data())];
+    const std::size_t first_new = out.size();
     std::vector<PlanePoint> taken;  // places of this way already represented
     // Shared nodes: the way meets the road by node identity.
     for (std::int64_t id : way.node_ids) {
@@ -256,6 +287,7 @@ class CrossingFinder {
       out.push_back(std::move(c));
     }
     add_intersections(way, kind, grid, taken, out);
+    for (std::size_t i = first_new; i < out.size(); ++i) out[i].kerb = kerb;
   }
 
   /// Places where the way's edges cross road edges without a shared node.
@@ -297,15 +329,21 @@ class CrossingFinder {
   const RoadGraph& graph_;
   std::unordered_map<std::int64_t, std::vector<GraphPlace>> places_;
   std::vector<std::int64_t> crossing_nodes_;  // sorted: tagged_nodes are in id order
+  std::vector<KerbFacts> way_kerbs_;          // per crossing way: its tags' and its nodes'
+  std::unordered_map<std::int64_t, std::vector<std::size_t>> ways_through_;  // node -> ways
 };
 
 }  // namespace
 
 std::optional<CrossingKind> node_crossing_kind(const Tags& tags) {
-  const bool marked =
-      tag_value(tags, "highway") == "crossing" || !tag_value(tags, "crossing").empty() ||
-      !tag_value(tags, "crossing:markings").empty() ||
-      !tag_value(tags, "crossing:signals").empty() || !tag_value(tags, "crossing_ref").empty();
+  const std::string_view tactile = tag_value(tags, "tactile_paving");
+  const bool paved_for_crossing = tactile == "yes" || tactile == "contrasted" ||
+                                  tactile == "primitive" || tactile == "incorrect";
+  const bool marked = tag_value(tags, "highway") == "crossing" ||
+                      !tag_value(tags, "crossing").empty() ||
+                      !tag_value(tags, "crossing:markings").empty() ||
+                      !tag_value(tags, "crossing:signals").empty() ||
+                      !tag_value(tags, "crossing_ref").empty() || paved_for_crossing;
   if (!marked) return std::nullopt;
   return kind_from_tags(tags);
 }
@@ -371,6 +409,177 @@ void assign_crossing_distances(RoadGraph& graph, const std::vector<Crossing>& cr
       }
       if (std::isfinite(d)) s.crossing_distance_m = d;
     }
+  }
+}
+
+namespace {
+
+/// Merges `facts` into the segments of `piece` that hold `offset_m` or whose midpoint lies
+/// within `reach_m` of it along the piece.
+void add_kerb_place(RoadGraph& graph, std::size_t piece_index, double offset_m,
+                    const KerbFacts& facts, double reach_m) {
+  const RoadPiece& piece = graph.pieces[piece_index];
+  for (std::size_t k = 0; k < piece.segment_count; ++k) {
+    const std::size_t index = piece.first_segment + k;
+    const Segment& s = graph.segments[index];
+    const double start_m = graph.offset_in_piece_m(s);
+    const double length_m = graph.length_m(s);
+    const bool holds = offset_m >= start_m && offset_m <= start_m + length_m;
+    // The epsilon: a place exactly at the limit (a node between two 10 m segments is 5 m from
+    // both midpoints) reaches both, as the crossing bonus does.
+    const bool near = std::abs(start_m + 0.5 * length_m - offset_m) <= reach_m + 1e-6;
+    if (holds || near) merge_kerb_facts(graph.kerbs[index], facts);
+  }
+}
+
+/// The midpoint of a polyline and its direction there (ENU yaw, radians).
+std::pair<PlanePoint, double> midpoint_and_yaw(std::span<const PlanePoint> line) {
+  double total_m = 0.0;
+  for (std::size_t i = 1; i < line.size(); ++i) total_m += distance(line[i - 1], line[i]);
+  double left_m = 0.5 * total_m;
+  for (std::size_t i = 1; i < line.size(); ++i) {
+    const double edge_m = distance(line[i - 1], line[i]);
+    if (left_m <= edge_m || i + 1 == line.size()) {
+      const double t = edge_m > 0.0 ? std::clamp(left_m / edge_m, 0.0, 1.0) : 0.0;
+      const PlanePoint a = line[i - 1], b = line[i];
+      return {{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)}, std::atan2(b.y - a.y, b.x - a.x)};
+    }
+    left_m -= edge_m;
+  }
+  return {line.front(), 0.0};
+}
+
+/// The footway=sidewalk edges in a uniform grid of kSidewalkCellM cells.
+constexpr double kSidewalkCellM = 25.0;
+
+std::int64_t sidewalk_cell_key(std::int64_t x, std::int64_t y) {
+  return x * 4'000'003 + y;
+}
+
+std::int64_t sidewalk_cell(double v) {
+  return static_cast<std::int64_t>(std::floor(v / kSidewalkCellM));
+}
+
+using SidewalkEdge = std::pair<PlanePoint, PlanePoint>;
+
+std::unordered_map<std::int64_t, std::vector<SidewalkEdge>> sidewalk_grid(
+    const RoadNetwork& network, const geo::UtmZone& zone) {
+  std::unordered_map<std::int64_t, std::vector<SidewalkEdge>> grid;
+  const auto locate = [&](std::int64_t id) -> std::optional<PlanePoint> {
+    const NodeLocation* location = network.find_location(id);
+    if (!location) {
+      const auto& extra = network.crossing_way_locations;
+      const auto it =
+          std::lower_bound(extra.begin(), extra.end(), id,
+                           [](const NodeLocation& n, std::int64_t v) { return n.osm_id < v; });
+      if (it == extra.end() || it->osm_id != id) return std::nullopt;
+      location = &*it;
+    }
+    const geo::UtmPoint p = geo::wgs84_to_utm(location->lat_deg, location->lon_deg, zone);
+    return PlanePoint{p.easting_m, p.northing_m};
+  };
+  for (const SidewalkWay& way : network.sidewalk_ways) {
+    std::optional<PlanePoint> previous;
+    for (std::int64_t id : way.node_ids) {
+      const std::optional<PlanePoint> here = locate(id);
+      if (previous && here) {
+        for (std::int64_t x = sidewalk_cell(std::min(previous->x, here->x));
+             x <= sidewalk_cell(std::max(previous->x, here->x)); ++x) {
+          for (std::int64_t y = sidewalk_cell(std::min(previous->y, here->y));
+               y <= sidewalk_cell(std::max(previous->y, here->y)); ++y) {
+            grid[sidewalk_cell_key(x, y)].push_back({*previous, *here});
+          }
+        }
+      }
+      previous = here;
+    }
+  }
+  return grid;
+}
+
+/// +1 when a sidewalk edge near `mid` (within `reach_m`, within 30 degrees of `yaw_rad`) lies
+/// left of the road direction, -1 right; 0 for none. Both: 2.
+int sidewalks_near(const std::unordered_map<std::int64_t, std::vector<SidewalkEdge>>& grid,
+                   PlanePoint mid, double yaw_rad, double reach_m) {
+  const double ux = std::cos(yaw_rad), uy = std::sin(yaw_rad);
+  const double max_sin = std::sin(30.0 * geo::kPi / 180.0);
+  bool left = false, right = false;
+  for (std::int64_t x = sidewalk_cell(mid.x - reach_m); x <= sidewalk_cell(mid.x + reach_m); ++x) {
+    for (std::int64_t y = sidewalk_cell(mid.y - reach_m); y <= sidewalk_cell(mid.y + reach_m);
+         ++y) {
+      const auto it = grid.find(sidewalk_cell_key(x, y));
+      if (it == grid.end()) continue;
+      for (const auto& [a, b] : it->second) {
+        const double ex = b.x - a.x, ey = b.y - a.y, length_m = std::hypot(ex, ey);
+        if (length_m <= 0.0) continue;
+        // Parallel to the road: the sine of the angle between them is small.
+        if (std::abs(ux * ey - uy * ex) / length_m > max_sin) continue;
+        const double t =
+            std::clamp(((mid.x - a.x) * ex + (mid.y - a.y) * ey) / (length_m * length_m), 0.0, 1.0);
+        const PlanePoint closest{a.x + t * ex, a.y + t * ey};
+        if (distance(closest, mid) > reach_m) continue;
+        const double side = ux * (closest.y - mid.y) - uy * (closest.x - mid.x);
+        (side > 0.0 ? left : right) = true;
+      }
+    }
+  }
+  return left && right ? 2 : left ? 1 : right ? -1 : 0;
+}
+
+}  // namespace
+
+void assign_kerbs(RoadGraph& graph, const RoadNetwork& network,
+                  const std::vector<Crossing>& crossings, double reach_m) {
+  std::vector<std::int64_t> crossing_node_ids;
+  for (const Crossing& c : crossings) {
+    if (c.osm_type == "node") crossing_node_ids.push_back(c.osm_id);
+    if (!c.kerb.empty()) add_kerb_place(graph, c.piece_index, c.offset_in_piece_m, c.kerb, reach_m);
+  }
+  std::sort(crossing_node_ids.begin(), crossing_node_ids.end());
+  // Kerb nodes on the road itself (barrier=kerb where a footway meets it) that are no crossing.
+  std::vector<std::int64_t> kerb_nodes;
+  for (const TaggedNode& node : network.tagged_nodes) {
+    if (std::binary_search(crossing_node_ids.begin(), crossing_node_ids.end(), node.osm_id))
+      continue;
+    if (!kerb_facts(node.tags).empty()) kerb_nodes.push_back(node.osm_id);
+  }
+  if (kerb_nodes.empty()) return;
+  const auto places = place_nodes(graph, kerb_nodes);
+  for (std::int64_t id : kerb_nodes) {
+    const auto it = places.find(id);
+    if (it == places.end()) continue;
+    const KerbFacts facts = kerb_facts(*node_tags(network, id));
+    for (const GraphPlace& place : it->second) {
+      add_kerb_place(graph, place.piece, place.offset_m, facts, reach_m);
+    }
+  }
+}
+
+void assign_sidewalks(RoadGraph& graph, const RoadNetwork& network, double sidewalk_reach_m) {
+  bool any_unknown = false;
+  for (RoadPiece& piece : graph.pieces) {
+    piece.sidewalks = sidewalk_sides(network.ways[piece.way_index].tags);
+    any_unknown = any_unknown || !piece.sidewalks.left || !piece.sidewalks.right;
+  }
+  if (!any_unknown || network.sidewalk_ways.empty()) return;
+  const auto grid = sidewalk_grid(network, graph.zone);
+  for (RoadPiece& piece : graph.pieces) {
+    if (piece.sidewalks.left && piece.sidewalks.right) continue;
+    const double reach_m = 0.5 * piece.width_m.value_or(6.0f) + sidewalk_reach_m;
+    std::size_t left_votes = 0, right_votes = 0;
+    for (std::size_t k = 0; k < piece.segment_count; ++k) {
+      const Segment& s = graph.segments[piece.first_segment + k];
+      const auto [mid, yaw] = midpoint_and_yaw(graph.line(s));
+      const int near = sidewalks_near(grid, mid, yaw, reach_m);
+      left_votes += (near == 1 || near == 2) ? 1 : 0;
+      right_votes += (near == -1 || near == 2) ? 1 : 0;
+    }
+    // At least half of the segments: a sidewalk that only touches the piece's end (the
+    // pavement of a side street) does not count.
+    if (!piece.sidewalks.left && 2 * left_votes >= piece.segment_count && left_votes > 0)
+      piece.sidewalks.left = true;
+    if (!piece.sidewalks.right && 2 * right_votes >= piece.segment_count && right_votes > 0)
+      piece.sidewalks.right = true;
   }
 }
 

@@ -29,6 +29,16 @@ bool is_kept_road_class(std::string_view highway) noexcept {
   return std::find(kKept.begin(), kKept.end(), highway) != kKept.end();
 }
 
+bool is_sidewalk_way(const osmium::TagList& tags) noexcept {
+  const char* highway = tags["highway"];
+  const char* footway = tags["footway"];
+  const char* area = tags["area"];
+  return highway && footway && std::strcmp(footway, "sidewalk") == 0 &&
+         (std::strcmp(highway, "footway") == 0 || std::strcmp(highway, "path") == 0 ||
+          std::strcmp(highway, "cycleway") == 0) &&
+         !(area && std::strcmp(area, "yes") == 0);
+}
+
 bool is_crossing_way(const Tags& tags) noexcept {
   return (tag_value(tags, "footway") == "crossing" || tag_value(tags, "cycleway") == "crossing") &&
          tag_value(tags, "area") != "yes";
@@ -54,11 +64,14 @@ bool is_area(const osmium::TagList& tags) {
   return area && std::strcmp(area, "yes") == 0;
 }
 
-/// Keys that make a node on a road interesting to later stages (crossings, signals, ...).
+/// Keys that make a node on a road or a crossing way interesting to later stages (crossings,
+/// signals, kerbs, refuge islands, ...).
 bool has_interesting_tag(const osmium::TagList& tags) {
-  static constexpr std::array<const char*, 7> kKeys = {
-      "highway",          "crossing",        "crossing_ref", "crossing:markings",
-      "crossing:signals", "traffic_signals", "barrier"};
+  static constexpr std::array<const char*, 15> kKeys = {
+      "highway",          "crossing",        "crossing_ref",  "crossing:markings",
+      "crossing:signals", "traffic_signals", "barrier",       "kerb",
+      "kerb:height",      "kerb:left",       "kerb:right",    "kerb:both",
+      "crossing:island",  "traffic_calming", "tactile_paving"};
   return std::any_of(kKeys.begin(), kKeys.end(),
                      [&](const char* key) { return tags.has_key(key); });
 }
@@ -73,6 +86,7 @@ class RoadWayCollector : public osmium::handler::Handler {
     const char* highway = way.tags()["highway"];
     if (!highway || !is_kept_road_class(highway) || is_area(way.tags())) {
       keep_crossing_way(way);
+      keep_sidewalk_way(way);
       return;
     }
     RoadWay road;
@@ -96,6 +110,16 @@ class RoadWayCollector : public osmium::handler::Handler {
     kept.tags = copy_tags(way.tags());
     for (const osmium::NodeRef& ref : way.nodes()) kept.node_ids.push_back(ref.ref());
     network_.crossing_ways.push_back(std::move(kept));
+  }
+
+  /// footway=sidewalk ways (a pavement mapped on its own): node ids only, for the proximity
+  /// rule that gives a road's untagged side its pavement.
+  void keep_sidewalk_way(const osmium::Way& way) {
+    if (!is_sidewalk_way(way.tags()) || way.nodes().size() < 2) return;
+    SidewalkWay kept;
+    kept.osm_id = way.id();
+    for (const osmium::NodeRef& ref : way.nodes()) kept.node_ids.push_back(ref.ref());
+    network_.sidewalk_ways.push_back(std::move(kept));
   }
 
   void note_timestamp(const osmium::OSMObject& object) {
@@ -139,6 +163,9 @@ class NodeLocationCollector : public osmium::handler::Handler {
     if (!node.location().valid()) return;
     network_.crossing_way_locations.push_back(
         {node.id(), node.location().lat(), node.location().lon()});
+    if (!node.tags().empty() && has_interesting_tag(node.tags())) {
+      network_.crossing_way_tagged_nodes.push_back({node.id(), copy_tags(node.tags())});
+    }
   }
 
   RoadNetwork& network_;
@@ -219,6 +246,12 @@ RoadNetwork read_road_network(const std::string& path, Progress& progress, Extra
         if (!std::binary_search(wanted.begin(), wanted.end(), id)) crossing_only.push_back(id);
       }
     }
+    sort_by_id_unique(network.sidewalk_ways);
+    for (const SidewalkWay& way : network.sidewalk_ways) {
+      for (std::int64_t id : way.node_ids) {
+        if (!std::binary_search(wanted.begin(), wanted.end(), id)) crossing_only.push_back(id);
+      }
+    }
     std::sort(crossing_only.begin(), crossing_only.end());
     crossing_only.erase(std::unique(crossing_only.begin(), crossing_only.end()),
                         crossing_only.end());
@@ -230,6 +263,7 @@ RoadNetwork read_road_network(const std::string& path, Progress& progress, Extra
     sort_by_id_unique(network.locations);
     sort_by_id_unique(network.crossing_way_locations);
     sort_by_id_unique(network.tagged_nodes);
+    sort_by_id_unique(network.crossing_way_tagged_nodes);
     network.missing_locations = wanted.size() - network.locations.size();
     progress.finish_stage(std::to_string(network.locations.size()) + " road nodes of " +
                           std::to_string(network.nodes_read) + " nodes");

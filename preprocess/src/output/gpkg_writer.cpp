@@ -91,6 +91,11 @@ void result(sqlite3_context* out, bool value) {
   sqlite3_result_int(out, value ? 1 : 0);
 }
 
+/// 1, 0, or NULL for unknown.
+void optional_flag(sqlite3_context* out, std::optional<bool> value) {
+  if (value) sqlite3_result_int(out, *value ? 1 : 0);
+}
+
 /// A text that outlives the insert (interned in the graph, or a static name): not copied.
 void result_lasting_text(sqlite3_context* out, std::string_view text) {
   sqlite3_result_text(out, text.data(), static_cast<int>(text.size()), SQLITE_STATIC);
@@ -104,7 +109,7 @@ void result_lasting_text(sqlite3_context* out, const std::string* text) {
 /// The segments table's rows: fid, geom, then schema::segment_columns() in order.
 class SegmentRows final : public RowSource {
  public:
-  static constexpr int kColumns = 39;
+  static constexpr int kColumns = 44;
 
   /// Rows [first, last) of the graph's segments.
   SegmentRows(const RoadGraph& graph, std::size_t first, std::size_t last)
@@ -209,12 +214,35 @@ class SegmentRows final : public RowSource {
         return result(out, s.sight_min_m);
       case 38:
         return result(out, s.required_sight_m);
+      case 39: {
+        const KerbFacts* kerb = kerb_at(index);
+        return kerb && !kerb->kerb.empty() ? result_lasting_text(out, kerb->kerb) : void();
+      }
+      case 40: {
+        const KerbFacts* kerb = kerb_at(index);
+        return kerb && kerb->kerb_height_m ? sqlite3_result_double(out, *kerb->kerb_height_m)
+                                           : void();
+      }
+      case 41: {
+        const KerbFacts* kerb = kerb_at(index);
+        return kerb ? optional_flag(out, kerb->island) : void();
+      }
+      case 42:
+        return optional_flag(out, graph_.pieces[s.piece_index].sidewalks.left);
+      case 43:
+        return optional_flag(out, graph_.pieces[s.piece_index].sidewalks.right);
       default:
         throw std::logic_error("segments writer: no column " + std::to_string(column));
     }
   }
 
  private:
+  /// The segment's kerb facts (graph.kerbs holds the few segments that have any), or null.
+  const KerbFacts* kerb_at(std::size_t index) const {
+    const auto it = graph_.kerbs.find(index);
+    return it == graph_.kerbs.end() ? nullptr : &it->second;
+  }
+
   const RoadGraph& graph_;
   std::size_t first_, count_;
   std::int32_t srs_id_;

@@ -28,6 +28,9 @@ struct SegmentParameters {
 struct SuitabilityParameters {
   double threshold = 20.0;         ///< suitable when score + context >= this
   double valid_distance_m = 10.0;  ///< a position is valid within this of a road centreline
+  /// The robot's highest climbable kerb, metres: a robot profile sets it (docs/profiles); the
+  /// default 1 m stands for no limit (the thesis' pedestrian).
+  double max_kerb_height_m = 1.0;
   void describe(std::vector<ParameterSpec>& out);
 };
 

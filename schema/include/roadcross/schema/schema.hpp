@@ -14,7 +14,9 @@ namespace roadcross::schema {
 /// in [kOldestReadableVersion, kSchemaVersion].
 /// 2 (issue 11): the sight distance columns. Version 1 DBs stay readable: the runtime reads
 /// no sight column, and a version 1 DB simply never carries LIMITED_VISIBILITY.
-inline constexpr int kSchemaVersion = 2;
+/// 3 (issue 28): kerb, kerb_height_m, crossing_island, sidewalk_left, sidewalk_right. Older DBs
+/// stay readable: the runtime reads NULL (unknown) for them, and unknown never forbids.
+inline constexpr int kSchemaVersion = 3;
 inline constexpr int kOldestReadableVersion = 1;
 
 /// GeoPackage fixes these two SQLite header fields (spec 1.3: 'GPKG' and 10300).

@@ -11,7 +11,9 @@
 
 namespace roadcross::preprocess {
 
-inline constexpr std::array<std::string_view, 12> kReasonCodes = {"NOT_CROSSABLE_CLASS",
+// KERB_TOO_HIGH and NO_PAVEMENT_FAR_SIDE are the runtime's (they depend on the robot and on
+// its side of the road); they are listed so that the codes have one table.
+inline constexpr std::array<std::string_view, 14> kReasonCodes = {"NOT_CROSSABLE_CLASS",
                                                                   "TUNNEL",
                                                                   "OVERRIDE",
                                                                   "NEAR_JUNCTION",
@@ -22,7 +24,9 @@ inline constexpr std::array<std::string_view, 12> kReasonCodes = {"NOT_CROSSABLE
                                                                   "NO_ELEVATION",
                                                                   "BRIDGE",
                                                                   "COVERED",
-                                                                  "TOO_FAR_FROM_ROAD"};
+                                                                  "TOO_FAR_FROM_ROAD",
+                                                                  "KERB_TOO_HIGH",
+                                                                  "NO_PAVEMENT_FAR_SIDE"};
 
 class ReasonSet {
   static_assert(kReasonCodes.size() <= 16, "ReasonSet holds 16 bits: widen bits_ for more codes");
@@ -39,7 +43,7 @@ class ReasonSet {
   bool operator==(const ReasonSet&) const = default;
 
  private:
-  // 2 bytes (a Segment holds one): a bit for each of the 12 codes.
+  // 2 bytes (a Segment holds one): a bit for each of the 14 codes.
   std::uint16_t bits_ = 0;
 };
 

@@ -69,6 +69,9 @@ struct ContextReport {
   std::uint64_t override_segments = 0;                  ///< segments touched by an override
   std::vector<std::size_t> unmatched_overrides;         ///< feature indexes that touched nothing
   std::uint64_t busy_segments = 0;
+  std::uint64_t kerb_segments = 0;    ///< segments with a known kerb height
+  std::uint64_t island_segments = 0;  ///< segments at a crossing with a refuge island
+  std::uint64_t pavement_sides_known = 0, pavement_sides = 0;  ///< piece sides, known / all
   /// Context scores by way index, without and with the crossing bonus: left by
   /// compute_way_context for finish_context, which empties it.
   struct WayScores {

@@ -18,6 +18,7 @@
 #include "roadcross/geo.hpp"
 #include "roadcross/preprocess/common/maybe.hpp"
 #include "roadcross/preprocess/common/reasons.hpp"
+#include "roadcross/preprocess/context/kerb_tags.hpp"
 #include "roadcross/schema/gpkg_geometry.hpp"
 
 namespace roadcross::preprocess {
@@ -167,7 +168,9 @@ struct RoadPiece {
   // The way's context (set by the context stage; read through RoadGraph for a segment).
   MaybeFloat maxspeed_kmh;  ///< km/h, tagged or the country's implicit limit
   MaybeInt lanes;
-  MaybeFloat width_m;              ///< carriageway width, metres
+  MaybeFloat width_m;  ///< carriageway width, metres
+  /// Pavement on each side of the way's drawing direction (set by the context stage).
+  SidewalkSides sidewalks;
   std::vector<PlanePoint> points;  ///< the OSM vertices of the piece, UTM metres
   /// OSM node id of each vertex in `points`: for the crossings search of the context stage,
   /// emptied after it (RoadGraph::free_piece_node_ids).
@@ -191,6 +194,9 @@ struct RoadGraph {
   std::uint64_t dropped_ways = 0;       ///< ways with fewer than two located nodes
 
   NoteTable notes;  ///< the segments' note pairs (Segment::notes indexes it)
+  /// Kerb and island facts of the segments near a crossing or a kerb node, by segment index
+  /// (set by the context stage): few segments have any, so they are not a Segment field.
+  std::unordered_map<std::size_t, KerbFacts> kerbs;
 
   // What a segment's piece and its place in `segments` determine, derived rather than stored.
   // `segment` must be an element of `segments` (its index is its address's offset).

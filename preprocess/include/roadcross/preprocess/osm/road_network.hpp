@@ -10,6 +10,7 @@
 
 namespace osmium {
 class Node;
+class TagList;
 class Relation;
 class Way;
 }  // namespace osmium
@@ -55,6 +56,16 @@ struct CrossingWay {
   std::vector<std::int64_t> node_ids;
 };
 
+/// A footway=sidewalk way (highway=footway, path or cycleway): a pavement mapped on its own,
+/// beside a road. Ids only; its nodes' locations are in crossing_way_locations.
+struct SidewalkWay {
+  std::int64_t osm_id = 0;
+  std::vector<std::int64_t> node_ids;
+};
+
+/// True for the ways kept as SidewalkWay.
+bool is_sidewalk_way(const osmium::TagList& tags) noexcept;
+
 /// True for the ways kept as CrossingWay: footway=crossing or cycleway=crossing, not an area.
 bool is_crossing_way(const Tags& tags) noexcept;
 
@@ -64,8 +75,13 @@ struct RoadNetwork {
   std::vector<NodeLocation> locations;     ///< sorted by osm_id, only nodes used by `ways`
   std::vector<TaggedNode> tagged_nodes;    ///< sorted by osm_id, only nodes used by `ways`
   std::vector<CrossingWay> crossing_ways;  ///< sorted by osm_id
-  /// Locations of the crossing ways' nodes that no road way uses, sorted by osm_id.
+  std::vector<SidewalkWay> sidewalk_ways;  ///< footway=sidewalk ways, sorted by osm_id
+  /// Locations of the crossing and sidewalk ways' nodes that no road way uses, sorted by osm_id.
   std::vector<NodeLocation> crossing_way_locations;
+  /// Tags of the crossing and sidewalk ways' nodes that no road way uses and that carry kerb,
+  /// island or crossing tags (a kerb node where a crossing way meets the pavement), sorted by
+  /// osm_id.
+  std::vector<TaggedNode> crossing_way_tagged_nodes;
   std::uint64_t ways_read = 0;          ///< all ways in the file
   std::uint64_t nodes_read = 0;         ///< all nodes in the file
   std::uint64_t missing_locations = 0;  ///< node references of road ways not in the file
