@@ -20,17 +20,23 @@ struct LocalSegment {
   std::string reasons;
   bool tunnel = false, no_crossing = false, force_suitable = false;
   std::optional<double> crossing_distance_m;
+  std::optional<double> kerb_height_m;
+  std::optional<bool> sidewalk_left, sidewalk_right;
 };
 
 /// Every segment whose box meets the square of half-size `radius_m` around `p`.
+/// `has_kerbs`: the DB has the kerb and pavement columns (schema version >= 3).
 std::vector<LocalSegment> load_neighbourhood(sqlite::Database& db, schema::PlanePoint p,
-                                             double radius_m) {
+                                             double radius_m, bool has_kerbs) {
   // Prepared per call: better_place is a planning query (ms), not the hot assess path.
   sqlite::Statement query = db.prepare(
       "SELECT s.fid, s.from_node_id, s.to_node_id, s.length_m, s.geom, s.score, s.context_score, "
       "s.reasons, s.tunnel, s.override_no_crossing, s.override_force_suitable, "
-      "s.crossing_distance_m FROM " +
-      std::string(schema::kSegmentsRtree) + " r JOIN " + std::string(schema::kSegmentsTable) +
+      "s.crossing_distance_m, " +
+      std::string(has_kerbs ? "s.kerb_height_m, s.sidewalk_left, s.sidewalk_right"
+                            : "NULL, NULL, NULL") +
+      " FROM " + std::string(schema::kSegmentsRtree) + " r JOIN " +
+      std::string(schema::kSegmentsTable) +
       " s ON s.fid = r.id WHERE r.maxx >= ?1 AND r.minx <= ?2 AND r.maxy >= ?3 AND r.miny <= ?4");
   query.bind(1, p.x - radius_m);
   query.bind(2, p.x + radius_m);
@@ -52,6 +58,9 @@ std::vector<LocalSegment> load_neighbourhood(sqlite::Database& db, schema::Plane
     s.no_crossing = query.column_int64(9) != 0;
     s.force_suitable = query.column_int64(10) != 0;
     if (!query.column_is_null(11)) s.crossing_distance_m = query.column_double(11);
+    if (!query.column_is_null(12)) s.kerb_height_m = query.column_double(12);
+    if (!query.column_is_null(13)) s.sidewalk_left = query.column_int64(13) != 0;
+    if (!query.column_is_null(14)) s.sidewalk_right = query.column_int64(14) != 0;
     out.push_back(std::move(s));
   }
   return out;
@@ -106,8 +115,8 @@ Result<BetterPlaces> Map::better_place(const Position& position,
   if (!here.ok()) return Result<BetterPlaces>{here.status, std::nullopt};
   try {
     const schema::PlanePoint robot{here->road.query.easting_m, here->road.query.northing_m};
-    std::vector<LocalSegment> local =
-        load_neighbourhood(impl_->db, robot, options.search_radius_m + 20.0);
+    std::vector<LocalSegment> local = load_neighbourhood(
+        impl_->db, robot, options.search_radius_m + 20.0, impl_->info.schema_version >= 3);
     std::unordered_map<std::int64_t, std::vector<std::size_t>> at_node;
     std::size_t start = local.size();
     for (std::size_t i = 0; i < local.size(); ++i) {
@@ -206,6 +215,7 @@ Result<BetterPlaces> Map::better_place(const Position& position,
 
     BetterPlaces result;
     const double threshold = options.assess.threshold.value_or(impl_->thresholds.threshold);
+    const double max_kerb_height_m = here->max_kerb_height_m;
     for (const auto& [i, r] : reached) {
       if (r.distance_m > options.search_radius_m) continue;
       const LocalSegment& s = local[i];
@@ -216,10 +226,16 @@ Result<BetterPlaces> Map::better_place(const Position& position,
       c.segment_id = s.id;
       c.walking_distance_m = r.distance_m;
       c.score = s.score + s.context;
-      c.suitable = s.has_score && (c.score >= threshold || s.force_suitable);
       c.designated_crossing = s.crossing_distance_m && *s.crossing_distance_m <= 5.0;
       const auto [mid, direction] = point_and_direction(s.points, 0.5);
       const double side = side_of_segment[i];
+      // The same two robot rules as assess: a kerb known to be too high, a far side (the one
+      // across from the side the robot walks on) tagged without a pavement.
+      const bool kerb_too_high = s.kerb_height_m && *s.kerb_height_m > max_kerb_height_m + 1e-9;
+      const std::optional<bool> far_pavement = side > 0 ? s.sidewalk_right : s.sidewalk_left;
+      const bool stranded = far_pavement.has_value() && !*far_pavement;
+      c.suitable =
+          s.has_score && (c.score >= threshold || s.force_suitable) && !kerb_too_high && !stranded;
       c.point = {mid.x - side * offset_m * std::sin(direction),
                  mid.y + side * offset_m * std::cos(direction)};
       // From the left (+1) of the road's direction the crossing points to its right, and back.
@@ -231,6 +247,8 @@ Result<BetterPlaces> Map::better_place(const Position& position,
         if (end > start_code) c.reasons.push_back(s.reasons.substr(start_code, end - start_code));
         start_code = end + 1;
       }
+      if (kerb_too_high) c.reasons.emplace_back("KERB_TOO_HIGH");
+      if (stranded) c.reasons.emplace_back("NO_PAVEMENT_FAR_SIDE");
       result.candidates.push_back(std::move(c));
     }
     std::sort(result.candidates.begin(), result.candidates.end(),

@@ -77,6 +77,21 @@ bool finite(double v) {
   return std::isfinite(v);
 }
 
+/// The lanes a decision covers: all of them, or one stage's half at a refuge island.
+struct StageLanes {
+  int first = 0, last = 0;  // inclusive lane indices, 0 = nearest the kerb the robot left
+  int stage = 0;            // 0: one stage
+  bool holds(int lane) const { return lane >= first && lane <= last; }
+  int count() const { return last - first + 1; }
+};
+
+StageLanes stage_lanes(const GapCrossing& c) {
+  if (!c.refuge_island || c.lanes < 2) return {0, c.lanes - 1, 0};
+  const int near_lanes = c.lanes / 2;  // an odd lane count: the far half has the extra lane
+  if (c.stage == 2) return {near_lanes, c.lanes - 1, 2};
+  return {0, near_lanes - 1, 1};
+}
+
 Status invalid(const char* why) {
   return Status{StatusCode::invalid_argument, why};
 }
@@ -86,6 +101,9 @@ Status check_common(const GapCrossing& c, const RobotMotion& r, double now_s, co
       !finite(c.centre.northing_m) || !finite(c.heading_rad) || !finite(c.convergence_rad) ||
       !finite(now_s)) {
     return invalid("gap: NaN or infinite crossing coordinate, heading or time");
+  }
+  if (c.refuge_island && c.stage != 1 && c.stage != 2) {
+    return invalid("gap: the stage of a crossing with a refuge island must be 1 or 2");
   }
   if (!(c.road_width_m > 0) || c.lanes < 1 || !(c.maxspeed_kmh > 0) || !finite(c.road_width_m) ||
       !finite(c.maxspeed_kmh) || (c.junction_distance_m && !(*c.junction_distance_m >= 0))) {
@@ -225,7 +243,9 @@ Result<GapDecision> gap_decision(const GapCrossing& crossing, const RobotMotion&
   const double m = options.min_pet_s;
 
   GapDecision d;
-  const BandTimes far = lane_times(f, robot, f.lanes - 1);
+  const StageLanes lanes = stage_lanes(crossing);
+  d.stage = lanes.stage;
+  const BandTimes far = lane_times(f, robot, lanes.last);
   d.crossing_time_s = far.exit_s;
   // The vehicle nobody sees: just beyond the visible road (the sensor range, or nearer where a
   // bend, a building or a crest hides the road), in the far lane (the one the robot leaves
@@ -257,7 +277,8 @@ Result<GapDecision> gap_decision(const GapCrossing& crossing, const RobotMotion&
     if (now_s - v.time_s > options.max_track_age_s && d.stale_tracks++ == 0) first_stale = index;
     const Occupation o = occupation(crossing, f, v, now_s, corridor_half_m, options, true);
     if (std::fabs(o.along_m) > options.sensor_range_m) ++d.beyond_sensor_range;
-    if (!o.counts) continue;
+    // At a refuge island, the other stage's lanes are not crossed now.
+    if (!o.counts || !lanes.holds(o.lane)) continue;
     ++d.vehicles_counted;
     const BandTimes lane = lane_times(f, robot, o.lane);
     const double pet_s = std::max(o.enter_s - lane.exit_s, lane.enter_s - o.exit_s);
@@ -323,8 +344,10 @@ Result<GapDecision> hcm_gap_decision(const GapCrossing& crossing, const RobotMot
   if (!frame.ok()) return {frame.status, {}};
   const double corridor_half_m = robot.radius_m + options.safety_buffer_m;
   GapDecision d;
-  d.critical_gap_s =
-      hcm_critical_gap_s(crossing.road_width_m, robot.speed_mps, hcm.start_clearance_s);
+  const StageLanes lanes = stage_lanes(crossing);
+  d.stage = lanes.stage;
+  const double crossing_length_m = crossing.road_width_m * lanes.count() / crossing.lanes;
+  d.critical_gap_s = hcm_critical_gap_s(crossing_length_m, robot.speed_mps, hcm.start_clearance_s);
   d.crossing_time_s = d.critical_gap_s;
   std::vector<std::pair<double, double>> forbidden;
   try {
@@ -337,7 +360,7 @@ Result<GapDecision> hcm_gap_decision(const GapCrossing& crossing, const RobotMot
     const Occupation o =
         occupation(crossing, *frame, vehicles[i], now_s, corridor_half_m, options, false);
     if (std::fabs(o.along_m) > options.sensor_range_m) ++d.beyond_sensor_range;
-    if (!o.counts) continue;
+    if (!o.counts || !lanes.holds(o.lane)) continue;
     ++d.vehicles_counted;
     if (o.enter_s < next_arrival_s)
       next_arrival_s = o.enter_s, d.limiting_vehicle = static_cast<int>(i);
@@ -385,6 +408,9 @@ Result<GapCrossing> gap_crossing(Map& map, const Position& position,
   c.junction_distance_m = a->junction_distance_m;
   c.sight_forward_m = a->sight_forward_m;
   c.sight_backward_m = a->sight_backward_m;
+  c.refuge_island = a->crossing_island.value_or(false);
+  // On the island: well inside the carriageway, near the centreline.
+  c.stage = c.refuge_island && a->road.distance_m < 0.25 * c.road_width_m ? 2 : 1;
   return {Status{}, c};
 }
 

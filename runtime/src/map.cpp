@@ -289,6 +289,18 @@ Result<NearestRoad> Map::nearest(const Position& position, double max_distance_m
   }
 }
 
+int Map::Impl::side_of(const NearestRoad& road) const noexcept {
+  constexpr double kOnCentrelineM = 1e-3;
+  if (road.distance_m < kOnCentrelineM || best_geometry.size() < 2) return 0;
+  const schema::PlanePoint query{road.query.easting_m, road.query.northing_m};
+  const detail::PolylineProjection at = detail::project_onto_polyline(best_geometry, query);
+  const double yaw = detail::polyline_direction_rad(best_geometry, at);
+  // The cross product of the road direction with the offset to the query: > 0 on the left.
+  const double cross =
+      std::cos(yaw) * (query.y - at.closest.y) - std::sin(yaw) * (query.x - at.closest.x);
+  return cross >= 0.0 ? 1 : -1;
+}
+
 double Map::Impl::direction_at(std::int64_t segment_id, const detail::PolylineProjection& at) {
   const std::vector<schema::PlanePoint>& own = best_geometry;
   const double own_direction = detail::polyline_direction_rad(own, at);

@@ -29,8 +29,9 @@ struct Queries {
   /// segment's end vertex).
   sqlite::Statement segments_at;
 
-  /// `has_sight`: the DB has the sight columns (schema version >= 2); older ones read NULLs.
-  Queries(sqlite::Database& db, bool has_sight);
+  /// `has_sight`: the DB has the sight columns (schema version >= 2); `has_kerbs`: the kerb,
+  /// island and pavement columns (>= 3). Older DBs read NULLs in their place.
+  Queries(sqlite::Database& db, bool has_sight, bool has_kerbs);
 };
 
 /// Suitability thresholds as recorded by the build (param.suitability.*), else DESIGN.md's.
@@ -40,6 +41,9 @@ struct Thresholds {
   /// LIMITED_VISIBILITY forbids crossing (the build's sight.limited_visibility_unsuitable); in
   /// cost mode the build has already added its penalty to the rank.
   bool limited_visibility_unsuitable = true;
+  /// The robot profile's highest climbable kerb (param.suitability.max_kerb_height_m), metres;
+  /// 1 m (no limit) for maps built without it.
+  double max_kerb_height_m = 1.0;
 };
 
 Thresholds thresholds_from(const MapInfo& info);
@@ -57,7 +61,7 @@ struct Map::Impl {
   Impl(sqlite::Database&& database, MapInfo&& map_info)
       : db(std::move(database)),
         info(std::move(map_info)),
-        queries(db, info.schema_version >= 2),
+        queries(db, info.schema_version >= 2, info.schema_version >= 3),
         thresholds(detail::thresholds_from(info)) {}
 
   /// The position in the map's UTM zone, or invalid_argument.
@@ -68,6 +72,11 @@ struct Map::Impl {
   /// the segment's geometry in best_geometry. invalid_argument or not_found otherwise; throws
   /// on an SQLite error or a malformed geometry.
   Status locate(const Position& position, double max_distance_m, NearestRoad& road);
+
+  /// The side of the centreline `road` (just located: its geometry is in best_geometry) the
+  /// query stands on: +1 left of the way's direction, -1 right, 0 on the centreline (within
+  /// 1 mm), where the side is unknown.
+  int side_of(const NearestRoad& road) const noexcept;
 
   /// The road's direction (ENU yaw, radians) at `at` on segment `segment_id`, whose geometry is
   /// in best_geometry: polyline_direction_rad, except at the segment's first or last vertex

@@ -36,6 +36,13 @@ struct GapCrossing {
   /// sight_backward_m: bends, buildings, walls and terrain), metres, >= 0. A vehicle can hide
   /// beyond it even inside the sensor range. Unset: only the sensor range limits the view.
   std::optional<double> sight_forward_m, sight_backward_m;
+  /// A refuge island in the middle of the carriageway (the DB's crossing_island): the crossing
+  /// is two stages, each over half the lanes (lanes / 2 near, the rest far), with a wait on
+  /// the island between. Ignored on a one-lane road.
+  bool refuge_island = false;
+  /// With an island: 1 = from the kerb to the island over the near lanes (`start` at the
+  /// kerb), 2 = from the island over the far lanes (`start` on the island). Must be 1 or 2.
+  int stage = 1;
 };
 
 /// Defaults for what the DB does not say.
@@ -46,7 +53,9 @@ struct GapCrossingDefaults {
 };
 
 /// The crossing at `position`: plan_crossing's start and heading, the DB's lanes, width,
-/// maxspeed (else `defaults`), junction distance and sight distances.
+/// maxspeed (else `defaults`), junction distance, sight distances and refuge island. With an
+/// island, a position within a quarter of the carriageway's width of the centreline is on the
+/// island (stage 2); any other is at the kerb (stage 1).
 Result<GapCrossing> gap_crossing(Map& map, const Position& position,
                                  const GapCrossingDefaults& defaults = {}) noexcept;
 
@@ -105,7 +114,10 @@ struct GapDecision {
   /// Earliest time (the `now_s` clock) at which GO would hold under the same predictions;
   /// unset when never (blocked, insufficient sight, stale track).
   std::optional<double> earliest_start_s;
-  double crossing_time_s = 0.0;   ///< start-up plus walking until the far lane is cleared
+  /// 0: a one-stage crossing; 1 or 2: the stage of a two-stage crossing (refuge island) this
+  /// decision is for. The lanes, times and sight below are that stage's.
+  int stage = 0;
+  double crossing_time_s = 0.0;   ///< start-up plus walking until the stage's far lane is cleared
   double required_sight_m = 0.0;  ///< road the robot must see each way to rule out unseen cars
   /// Road the robot does see each way: the sensor range, cut by the crossing's sight distances
   /// (the shorter side counts: the unseen vehicle may come from either), metres.
@@ -132,8 +144,8 @@ Result<GapDecision> gap_decision(const GapCrossing& crossing, const RobotMotion&
                                  const TrackedVehicle* vehicles, std::size_t vehicle_count,
                                  double now_s, const GapOptions& options = {}) noexcept;
 
-/// HCM 2010 pedestrian critical gap: t_c = L / S_p + t_s (crossing length = road width, the
-/// robot's speed, start-up and clearance time).
+/// HCM 2010 pedestrian critical gap: t_c = L / S_p + t_s (crossing length = road width, or the
+/// stage's lanes' width at a refuge island, the robot's speed, start-up and clearance time).
 struct HcmOptions {
   double start_clearance_s = 3.0;  ///< t_s, the HCM's pedestrian start-up and clearance time
 };

@@ -118,6 +118,11 @@ struct AssessOptions {
   std::optional<double> valid_distance_m;  ///< a position is valid within this of a centreline
   std::optional<double> threshold;         ///< suitable when score + context_score >= this
   double max_distance_m = 1000.0;          ///< how far to look for the nearest road, metres
+  /// The robot's capability: the highest kerb it climbs, metres, >= 0. A known kerb higher
+  /// than this makes a place unsuitable (KERB_TOO_HIGH); an unknown kerb never does. Unset: the
+  /// map profile's param.suitability.max_kerb_height_m (1 m, i.e. no limit, in maps built
+  /// without a robot profile and in DBs older than schema version 3).
+  std::optional<double> max_kerb_height_m;
 };
 
 /// Is this a place to cross, and why not. Cost terms are absent (nullopt) where the DB has none
@@ -138,9 +143,25 @@ struct Assessment {
   /// crossing needs, metres; empty in tunnels and in DBs older than schema version 2.
   std::optional<double> sight_forward_m, sight_backward_m, sight_min_m, required_sight_m;
   bool tunnel = false;
+  /// What a wheeled robot meets here (schema version 3; empty in older DBs and where OSM says
+  /// nothing): the kerb=* value of the highest kerb at a crossing within 5 m, its height in
+  /// metres (kerb:height, else the value's usual height: docs/cost-model.md), a refuge island,
+  /// and a pavement on each side of the OSM way's direction.
+  std::optional<std::string> kerb;
+  std::optional<double> kerb_height_m;
+  std::optional<bool> crossing_island;
+  std::optional<bool> sidewalk_left, sidewalk_right;
+  /// The robot's kerb capability the judgement used (AssessOptions or the map profile), metres.
+  double max_kerb_height_m = 1.0;
+  /// The robot's side of the centreline: +1 left of the way's direction, -1 right, 0 unknown
+  /// (on the centreline, and in assess_segment). The far side is the other one.
+  int robot_side = 0;
+  /// A pavement on the far side: true, false (NO_PAVEMENT_FAR_SIDE), unknown.
+  std::optional<bool> pavement_far_side;
   std::string override_note;  ///< the operator's note when an override applies
   /// Reason codes: the segment's (NEAR_JUNCTION, SHARP_BEND, BUSY_ROAD, NOT_CROSSABLE_CLASS,
-  /// TUNNEL, CREST_OR_DIP, ...) plus TOO_FAR_FROM_ROAD, NO_ELEVATION, LOW_SCORE, OVERRIDE.
+  /// TUNNEL, CREST_OR_DIP, ...) plus TOO_FAR_FROM_ROAD, NO_ELEVATION, LOW_SCORE, OVERRIDE,
+  /// KERB_TOO_HIGH and NO_PAVEMENT_FAR_SIDE (both make the place unsuitable).
   std::vector<std::string> reasons;
 };
 
@@ -209,14 +230,18 @@ class Map {
   /// segment and must agree with assess. road.query and road.closest are left at 0; not_found
   /// when there is no such segment. At a position off the centreline, assess's answer is this
   /// one with valid = distance <= valid_distance_m, suitable = valid && this suitable, and
-  /// TOO_FAR_FROM_ROAD first among the reasons when not valid.
+  /// TOO_FAR_FROM_ROAD first among the reasons when not valid; and, as the robot's side is
+  /// unknown here, without NO_PAVEMENT_FAR_SIDE, which assess adds when the side it stands on
+  /// faces a side tagged without a pavement.
   Result<Assessment> assess_segment(std::int64_t segment_id,
                                     const AssessOptions& options = {}) noexcept;
 
   /// Up to max_candidates places within search_radius_m of walking along the road (through the
   /// road graph, on the robot's side, never across), ranked: suitable first, then designated
   /// crossings, then score + context, then walking distance. Segments near a junction are not
-  /// offered. An empty list comes with the reason.
+  /// offered. A place with a kerb higher than options.assess.max_kerb_height_m (KERB_TOO_HIGH)
+  /// or without a pavement on its far side (NO_PAVEMENT_FAR_SIDE) is not suitable. An empty
+  /// list comes with the reason.
   Result<BetterPlaces> better_place(const Position& position,
                                     const BetterPlaceOptions& options = {}) noexcept;
 
