@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 namespace roadcross::sim {
 
@@ -80,6 +81,15 @@ struct Passage {
   double enter_s = 0.0, exit_s = kInf;
 };
 
+/// One stage of the crossing: the lanes it crosses and where the robot starts it.
+struct Stage {
+  int first_lane = 0, last_lane = 0;  // inclusive
+  double start_y_m = 0.0;             // the robot's centre when waiting
+  double end_y_m = 0.0;               // ... when the stage is done
+  int gap_stage = 0;                  // GapCrossing::stage (0: no island)
+  bool holds(int lane) const { return lane >= first_lane && lane <= last_lane; }
+};
+
 struct Lane {
   int direction = 1;  ///< +1: drives towards +x
   double centre_y_m = 0.0;
@@ -124,44 +134,70 @@ class Run {
     crossing_.junction_distance_m = s.road.junction_distance_m;
     options_ = s.gap;
     options_.sensor_range_m = s.road.sight_m;
+    const double far_y_m = s.kerb_offset_m + s.road.width_m + s.robot.radius_m;
+    if (s.road.refuge_island && s.road.lanes >= 2) {
+      // The same halves as gap_decision's: lanes / 2 near, the rest far.
+      const int near_lanes = s.road.lanes / 2;
+      const double island_y_m = s.kerb_offset_m + near_lanes * lane_width_m;
+      stages_ = {{0, near_lanes - 1, 0.0, island_y_m, 1},
+                 {near_lanes, s.road.lanes - 1, island_y_m, far_y_m, 2}};
+      crossing_.refuge_island = true;
+    } else {
+      stages_ = {{0, s.road.lanes - 1, 0.0, far_y_m, 0}};
+    }
   }
 
   Result<RunMetrics> run() {
     const long steps_per_decision = std::max(1L, std::lround(s_.decision_period_s / s_.step_s));
     const long arrival_step = std::lround((s_.warmup_s + 10.0 * random_.uniform()) / s_.step_s);
-    const long give_up_step = arrival_step + std::lround(s_.max_wait_s / s_.step_s);
-    crossing_s_ = s_.robot.startup_s +
-                  (s_.kerb_offset_m + s_.road.width_m + s_.robot.radius_m) / s_.robot.speed_mps;
-    const long tail_steps = std::lround((crossing_s_ + s_.conflict_pet_s + 2.0) / s_.step_s);
-    long go_step = -1;
-    long end_step = give_up_step + tail_steps;
+    const long wait_steps = std::lround(s_.max_wait_s / s_.step_s);
+    crossing_s_ = 0.0;
+    for (const Stage& stage : stages_) crossing_s_ += walk_s(stage);
+    const long tail_steps =
+        std::lround((walk_s(stages_.back()) + s_.conflict_pet_s + 2.0) / s_.step_s);
+    // Per stage: when the robot is ready to decide there, and when it said GO (-1: not yet).
+    std::vector<long> ready_step(stages_.size(), -1), go_step(stages_.size(), -1);
+    std::size_t stage = 0;
+    ready_step[0] = arrival_step;
+    long end_step = arrival_step + wait_steps + tail_steps;
     RunMetrics m;
     for (long i = 0; i < end_step; ++i) {
       const double t = static_cast<double>(i) * s_.step_s;
-      if (go_step < 0 && i >= arrival_step && i < give_up_step &&
-          (i - arrival_step) % steps_per_decision == 0) {
+      if (stage < stages_.size() && i >= ready_step[stage] && i < ready_step[stage] + wait_steps &&
+          (i - ready_step[stage]) % steps_per_decision == 0) {
         ++m.decisions;
-        Result<bool> go = decide(t);
+        Result<bool> go = decide(t, stages_[stage]);
         if (!go.ok()) return {go.status, {}};
         if (*go) {
-          go_step = i;
-          end_step = i + tail_steps;
+          go_step[stage] = i;
+          if (stage + 1 < stages_.size()) {
+            // Walks to the island, then decides again from there.
+            ready_step[stage + 1] = i + std::lround(walk_s(stages_[stage]) / s_.step_s);
+            end_step = ready_step[stage + 1] + wait_steps + tail_steps;
+          } else {
+            end_step = i + tail_steps;
+          }
+          ++stage;
         }
       }
       advance(t);
     }
-    const double arrival_s = static_cast<double>(arrival_step) * s_.step_s;
-    m.crossed = go_step >= 0;
-    const double go_s = m.crossed ? static_cast<double>(go_step) * s_.step_s
-                                  : static_cast<double>(give_up_step) * s_.step_s;
-    m.waiting_s = go_s - arrival_s;
+    m.crossed = stage == stages_.size();
+    for (std::size_t k = 0; k < stages_.size() && ready_step[k] >= 0; ++k) {
+      const long until = go_step[k] >= 0 ? go_step[k] : ready_step[k] + wait_steps;
+      const double waited_s =
+          static_cast<double>(until) * s_.step_s - static_cast<double>(ready_step[k]) * s_.step_s;
+      m.waiting_s += waited_s;
+      if (k > 0) m.island_wait_s += waited_s;
+      count_acceptable_gaps(ready_step[k], until, steps_per_decision, stages_[k], go_step[k] >= 0,
+                            m);
+    }
     if (m.crossed) {
       m.crossing_s = crossing_s_;
-      m.min_pet_s = min_pet_s(go_s);
+      m.min_pet_s = min_pet_s(go_step);
       m.collision = m.min_pet_s && *m.min_pet_s < 0.0;
       m.conflict = m.min_pet_s && *m.min_pet_s < s_.conflict_pet_s;
     }
-    count_acceptable_gaps(arrival_step, m.crossed ? go_step : give_up_step, steps_per_decision, m);
     return {Status{}, m};
   }
 
@@ -242,7 +278,12 @@ class Run {
     }
   }
 
-  Result<bool> decide(double t) {
+  /// Start-up plus the walk of one stage, seconds.
+  double walk_s(const Stage& stage) const {
+    return s_.robot.startup_s + (stage.end_y_m - stage.start_y_m) / s_.robot.speed_mps;
+  }
+
+  Result<bool> decide(double t, const Stage& stage) {
     tracks_.clear();
     double nearest_m = kInf;
     for (const Lane& lane : lanes_) {
@@ -262,6 +303,8 @@ class Run {
       }
     }
     if (s_.policy == Policy::naive) return {Status{}, nearest_m > s_.naive_distance_m};
+    crossing_.start = {0.0, stage.start_y_m};
+    crossing_.stage = stage.gap_stage == 0 ? 1 : stage.gap_stage;
     const Result<GapDecision> d =
         s_.policy == Policy::ours
             ? gap_decision(crossing_, s_.robot, tracks_, t, options_)
@@ -270,35 +313,53 @@ class Run {
     return {Status{}, d->verdict == GapVerdict::go};
   }
 
-  /// The robot's occupation of a lane's vehicle band when it starts at go_s.
-  std::pair<double, double> robot_band(int lane, double go_s) const {
+  /// The robot's occupation of a lane's vehicle band when it starts the stage at go_s.
+  std::pair<double, double> robot_band(int lane, const Stage& stage, double go_s) const {
     const double half = s_.vehicle_width_m / 2, r = s_.robot.radius_m, v = s_.robot.speed_mps;
-    const double y = lanes_[lane].centre_y_m;
+    const double y = lanes_[lane].centre_y_m - stage.start_y_m;
     return {go_s + s_.robot.startup_s + std::max(0.0, y - half - r) / v,
             go_s + s_.robot.startup_s + (y + half + r) / v};
   }
 
-  /// Smallest PET over the recorded passages (negative: a collision), unset when none.
-  std::optional<double> min_pet_s(double go_s) const {
+  /// Smallest PET over the recorded passages in the stage's lanes if it starts at go_s
+  /// (negative: a collision), unset when none.
+  std::optional<double> stage_min_pet_s(const Stage& stage, double go_s) const {
     std::optional<double> best;
     for (const Passage& p : passages_) {
-      const auto [in, out] = robot_band(p.lane, go_s);
+      if (!stage.holds(p.lane)) continue;
+      const auto [in, out] = robot_band(p.lane, stage, go_s);
       const double pet = std::max(p.enter_s - out, in - p.exit_s);
       if (!best || pet < *best) best = pet;
     }
     return best;
   }
 
-  /// Hindsight: a decision tick is an acceptable gap when starting then would have kept every
-  /// PET (also of vehicles the robot could not see) at or above the conflict threshold.
-  void count_acceptable_gaps(long from_step, long to_step, long every, RunMetrics& m) const {
+  /// Smallest PET over every stage, each started at its GO step.
+  std::optional<double> min_pet_s(const std::vector<long>& go_steps) const {
+    std::optional<double> best;
+    for (std::size_t k = 0; k < stages_.size(); ++k) {
+      const std::optional<double> pet =
+          stage_min_pet_s(stages_[k], static_cast<double>(go_steps[k]) * s_.step_s);
+      if (pet && (!best || *pet < *best)) best = pet;
+    }
+    return best;
+  }
+
+  /// Hindsight: a decision tick is an acceptable gap when starting the stage then would have
+  /// kept every PET in its lanes (also of vehicles the robot could not see) at or above the
+  /// conflict threshold. `went`: the stage ended with GO at to_step.
+  void count_acceptable_gaps(long from_step, long to_step, long every, const Stage& stage,
+                             bool went, RunMetrics& m) const {
     bool previous = false;
+    const bool first_stage = stage.first_lane == 0;
     for (long i = from_step; i <= to_step; i += every) {
-      const std::optional<double> pet = min_pet_s(static_cast<double>(i) * s_.step_s);
+      const std::optional<double> pet = stage_min_pet_s(stage, static_cast<double>(i) * s_.step_s);
       const bool acceptable = !pet || *pet >= s_.conflict_pet_s;
       if (acceptable && !previous) ++m.acceptable_gaps_offered;
       previous = acceptable;
-      if (i == to_step && m.crossed) m.used_acceptable_gap = acceptable;
+      if (i == to_step && went) {
+        m.used_acceptable_gap = (first_stage || m.used_acceptable_gap) && acceptable;
+      }
     }
   }
 
@@ -309,6 +370,7 @@ class Run {
   std::vector<TrackedVehicle> tracks_;
   GapCrossing crossing_;
   GapOptions options_;
+  std::vector<Stage> stages_;
   double spawn_m_ = 0.0, crossing_s_ = 0.0;
 };
 

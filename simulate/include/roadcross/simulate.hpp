@@ -25,6 +25,10 @@ struct Road {
   double sight_m = 200.0;  ///< the robot sees vehicles this far along the road each way
   /// Our policy allows for a vehicle turning in here (the simulated traffic has none).
   std::optional<double> junction_distance_m;
+  /// A refuge island between the near lanes (lanes / 2) and the far ones: the robot crosses in
+  /// two stages, deciding at the kerb for the near lanes, then on the island (its centre on
+  /// the lane boundary) for the far lanes. Ignored on a one-lane road.
+  bool refuge_island = false;
 };
 
 enum class Policy {
@@ -70,11 +74,14 @@ struct RunMetrics {
   bool crossed = false;    ///< false: gave up after max_wait_s
   bool collision = false;  ///< robot and vehicle in the same conflict area at the same time
   bool conflict = false;   ///< collision, or PET below conflict_pet_s
-  std::optional<double> min_pet_s;   ///< over the vehicles that passed the robot's lanes
-  double waiting_s = 0.0;            ///< arrival to GO (max_wait_s when it gave up)
-  double crossing_s = 0.0;           ///< GO to the far side
-  int acceptable_gaps_offered = 0;   ///< gaps (by hindsight) that began before GO
-  bool used_acceptable_gap = false;  ///< GO fell in an acceptable gap
+  std::optional<double> min_pet_s;  ///< over the vehicles that passed the robot's lanes
+  /// Arrival to GO (max_wait_s when it gave up); with a refuge island, the wait at the kerb
+  /// plus the wait on the island.
+  double waiting_s = 0.0;
+  double island_wait_s = 0.0;        ///< of waiting_s, on the island (0 without one)
+  double crossing_s = 0.0;           ///< moving: GO to the far side (both stages' walks)
+  int acceptable_gaps_offered = 0;   ///< gaps (by hindsight) that began before GO (each stage's)
+  bool used_acceptable_gap = false;  ///< GO (every stage's) fell in an acceptable gap
   int decisions = 0;
 };
 
