@@ -232,6 +232,30 @@ class Assessment:
     def tunnel(self) -> bool:
         """True in a tunnel, building passage or covered=yes"""
     @property
+    def kerb(self) -> Optional[str]:
+        """kerb=* value of the highest kerb at a crossing within 5 m, or None"""
+    @property
+    def kerb_height_m(self) -> Optional[float]:
+        """its height (kerb:height, else the value's usual height), metres, or None"""
+    @property
+    def max_kerb_height_m(self) -> float:
+        """the robot's highest climbable kerb the judgement used, metres"""
+    @property
+    def crossing_island(self) -> Optional[bool]:
+        """True: a refuge island (two-stage crossing), False: none, None: unknown"""
+    @property
+    def sidewalk_left(self) -> Optional[bool]:
+        """pavement left of the OSM way's direction: True, False or None (unknown)"""
+    @property
+    def sidewalk_right(self) -> Optional[bool]:
+        """the same on the right"""
+    @property
+    def robot_side(self) -> int:
+        """+1 left of the way's direction, -1 right, 0 unknown (on the centreline)"""
+    @property
+    def pavement_far_side(self) -> Optional[bool]:
+        """pavement on the far side: True, False (NO_PAVEMENT_FAR_SIDE) or None"""
+    @property
     def override_note(self) -> str:
         """the operator's note when an override applies, else ''"""
     @property
@@ -357,6 +381,8 @@ class GapCrossing:
         junction_distance_m: Optional[float] = None,
         sight_forward_m: Optional[float] = None,
         sight_backward_m: Optional[float] = None,
+        refuge_island: bool = False,
+        stage: int = 1,
     ) -> None: ...
     @property
     def start(self) -> PlanePoint:
@@ -388,6 +414,12 @@ class GapCrossing:
     @property
     def sight_backward_m(self) -> Optional[float]:
         """road visible against the way's direction, metres, or None"""
+    @property
+    def refuge_island(self) -> bool:
+        """True: two stages, each over half the lanes, with a wait on the island"""
+    @property
+    def stage(self) -> int:
+        """with an island: 1 = kerb to island (near lanes), 2 = island to far kerb"""
     def __repr__(self) -> str: ...
 
 class Vehicle:
@@ -464,8 +496,11 @@ class GapDecision:
     def earliest_start_s(self) -> Optional[float]:
         """earliest GO time on the now_s clock, seconds, or None (never)"""
     @property
+    def stage(self) -> int:
+        """0: one-stage crossing; 1 or 2: the stage of a two-stage crossing decided"""
+    @property
     def crossing_time_s(self) -> float:
-        """seconds"""
+        """seconds (of the stage)"""
     @property
     def required_sight_m(self) -> float:
         """metres each way"""
@@ -546,19 +581,23 @@ class Map:
         valid_distance_m: Optional[float] = None,
         threshold: Optional[float] = None,
         max_distance_m: float = 1000.0,
+        max_kerb_height_m: Optional[float] = None,
     ) -> Assessment:
         """Is this a suitable place to cross (Assessment).
         Position (keyword-only): lat, lon: WGS84 latitude and longitude, degrees; or easting,
         northing: UTM metres in the map's zone (Map.info.utm_zone).
         valid_distance_m: valid within this distance of a centreline, metres (None: the map's,
         10 m by default); threshold: suitable when score + context_score >= this (None: the
-        map's); max_distance_m: how far to look for a road, metres, > 0."""
+        map's); max_distance_m: how far to look for a road, metres, > 0; max_kerb_height_m: the
+        highest kerb the robot climbs, metres, >= 0 (None: the map profile's; a known higher
+        kerb is KERB_TOO_HIGH, an unknown one never forbids)."""
     def assess_segment(
         self,
         segment_id: int,
         *,
         valid_distance_m: Optional[float] = None,
         threshold: Optional[float] = None,
+        max_kerb_height_m: Optional[float] = None,
     ) -> Assessment:
         """The assessment on the centreline of one segment (distance 0); NoRoadError when there
         is no such segment. Thresholds as in assess."""
@@ -573,6 +612,7 @@ class Map:
         max_candidates: int = 5,
         valid_distance_m: Optional[float] = None,
         threshold: Optional[float] = None,
+        max_kerb_height_m: Optional[float] = None,
     ) -> BetterPlaces:
         """Better places to cross nearby, reached by walking along the road on the robot's side
         (BetterPlaces).

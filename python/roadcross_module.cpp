@@ -201,11 +201,13 @@ class PyMap {
 };
 
 AssessOptions assess_options(std::optional<double> valid_distance_m,
-                             std::optional<double> threshold, double max_distance_m) {
+                             std::optional<double> threshold, double max_distance_m,
+                             std::optional<double> max_kerb_height_m) {
   AssessOptions options;
   options.valid_distance_m = valid_distance_m;
   options.threshold = threshold;
   options.max_distance_m = max_distance_m;
+  options.max_kerb_height_m = max_kerb_height_m;
   return options;
 }
 
@@ -334,6 +336,21 @@ void bind_values(py::module_& m) {
                     "sight distance a crossing needs here, metres, or None")
       .def_readonly("tunnel", &Assessment::tunnel,
                     "True in a tunnel, building passage or covered=yes")
+      .def_readonly("kerb", &Assessment::kerb,
+                    "kerb=* value of the highest kerb at a crossing within 5 m, or None")
+      .def_readonly("kerb_height_m", &Assessment::kerb_height_m,
+                    "its height (kerb:height, else the value's usual height), metres, or None")
+      .def_readonly("max_kerb_height_m", &Assessment::max_kerb_height_m,
+                    "the robot's highest climbable kerb the judgement used, metres")
+      .def_readonly("crossing_island", &Assessment::crossing_island,
+                    "True: a refuge island (two-stage crossing), False: none, None: unknown")
+      .def_readonly("sidewalk_left", &Assessment::sidewalk_left,
+                    "pavement left of the OSM way's direction: True, False or None (unknown)")
+      .def_readonly("sidewalk_right", &Assessment::sidewalk_right, "the same on the right")
+      .def_readonly("robot_side", &Assessment::robot_side,
+                    "+1 left of the way's direction, -1 right, 0 unknown (on the centreline)")
+      .def_readonly("pavement_far_side", &Assessment::pavement_far_side,
+                    "pavement on the far side: True, False (NO_PAVEMENT_FAR_SIDE) or None")
       .def_readonly("override_note", &Assessment::override_note,
                     "the operator's note when an override applies, else ''")
       .def_readonly("reasons", &Assessment::reasons,
@@ -428,17 +445,17 @@ void bind_values(py::module_& m) {
                        int lanes, double maxspeed_kmh, double convergence_rad,
                        std::optional<double> junction_distance_m,
                        std::optional<double> sight_forward_m,
-                       std::optional<double> sight_backward_m) {
+                       std::optional<double> sight_backward_m, bool refuge_island, int stage) {
              return GapCrossing{
-                 start,           centre,          heading_rad,     road_width_m,
-                 lanes,           maxspeed_kmh,    convergence_rad, junction_distance_m,
-                 sight_forward_m, sight_backward_m};
+                 start,           centre,           heading_rad,     road_width_m,
+                 lanes,           maxspeed_kmh,     convergence_rad, junction_distance_m,
+                 sight_forward_m, sight_backward_m, refuge_island,   stage};
            }),
            py::kw_only(), "start"_a, "centre"_a, "heading_rad"_a,
            "road_width_m"_a = GapCrossing{}.road_width_m, "lanes"_a = GapCrossing{}.lanes,
            "maxspeed_kmh"_a = GapCrossing{}.maxspeed_kmh, "convergence_rad"_a = 0.0,
            "junction_distance_m"_a = py::none(), "sight_forward_m"_a = py::none(),
-           "sight_backward_m"_a = py::none())
+           "sight_backward_m"_a = py::none(), "refuge_island"_a = false, "stage"_a = 1)
       .def_readonly("start", &GapCrossing::start, "where the robot waits")
       .def_readonly("centre", &GapCrossing::centre, "the centreline on the crossing line")
       .def_readonly("heading_rad", &GapCrossing::heading_rad, "ENU grid yaw across, radians")
@@ -451,7 +468,11 @@ void bind_values(py::module_& m) {
       .def_readonly("sight_forward_m", &GapCrossing::sight_forward_m,
                     "road visible in the OSM way's direction (the DB's sight), metres, or None")
       .def_readonly("sight_backward_m", &GapCrossing::sight_backward_m,
-                    "road visible against the way's direction, metres, or None");
+                    "road visible against the way's direction, metres, or None")
+      .def_readonly("refuge_island", &GapCrossing::refuge_island,
+                    "True: two stages, each over half the lanes, with a wait on the island")
+      .def_readonly("stage", &GapCrossing::stage,
+                    "with an island: 1 = kerb to island (near lanes), 2 = island to far kerb");
   add_repr(crossing, "GapCrossing",
            {"start", "heading_rad", "road_width_m", "lanes", "maxspeed_kmh"});
 
@@ -528,7 +549,9 @@ void bind_values(py::module_& m) {
                     "smallest predicted PET if starting now, seconds, or None")
       .def_readonly("earliest_start_s", &GapDecision::earliest_start_s,
                     "earliest GO time on the now_s clock, seconds, or None (never)")
-      .def_readonly("crossing_time_s", &GapDecision::crossing_time_s, "seconds")
+      .def_readonly("stage", &GapDecision::stage,
+                    "0: one-stage crossing; 1 or 2: the stage of a two-stage crossing decided")
+      .def_readonly("crossing_time_s", &GapDecision::crossing_time_s, "seconds (of the stage)")
       .def_readonly("required_sight_m", &GapDecision::required_sight_m, "metres each way")
       .def_readonly("visible_road_m", &GapDecision::visible_road_m,
                     "road seen each way: sensor range cut by the sight distances, metres")
@@ -590,26 +613,29 @@ void bind_map(py::module_& m) {
           [](PyMap& self, std::optional<double> lat, std::optional<double> lon,
              std::optional<double> easting, std::optional<double> northing,
              std::optional<double> valid_distance_m, std::optional<double> threshold,
-             double max_distance_m) {
-            return value_or_raise(
-                self.get().assess(position_from(lat, lon, easting, northing),
-                                  assess_options(valid_distance_m, threshold, max_distance_m)));
+             double max_distance_m, std::optional<double> max_kerb_height_m) {
+            return value_or_raise(self.get().assess(
+                position_from(lat, lon, easting, northing),
+                assess_options(valid_distance_m, threshold, max_distance_m, max_kerb_height_m)));
           },
           ROADCROSS_POSITION_ARGS, "valid_distance_m"_a = py::none(), "threshold"_a = py::none(),
-          "max_distance_m"_a = AssessOptions{}.max_distance_m,
+          "max_distance_m"_a = AssessOptions{}.max_distance_m, "max_kerb_height_m"_a = py::none(),
           "Is this a suitable place to cross (Assessment).\n" ROADCROSS_POSITION_DOC
           "valid_distance_m: valid within this distance of a centreline, metres (None: the "
           "map's, 10 m by default); threshold: suitable when score + context_score >= this "
-          "(None: the map's); max_distance_m: how far to look for a road, metres, > 0.")
+          "(None: the map's); max_distance_m: how far to look for a road, metres, > 0; "
+          "max_kerb_height_m: the highest kerb the robot climbs, metres, >= 0 (None: the map "
+          "profile's; a known higher kerb is KERB_TOO_HIGH, an unknown one never forbids).")
       .def(
           "assess_segment",
           [](PyMap& self, std::int64_t segment_id, std::optional<double> valid_distance_m,
-             std::optional<double> threshold) {
+             std::optional<double> threshold, std::optional<double> max_kerb_height_m) {
             return value_or_raise(self.get().assess_segment(
-                segment_id, assess_options(valid_distance_m, threshold, 1000.0)));
+                segment_id,
+                assess_options(valid_distance_m, threshold, 1000.0, max_kerb_height_m)));
           },
           "segment_id"_a, py::kw_only(), "valid_distance_m"_a = py::none(),
-          "threshold"_a = py::none(),
+          "threshold"_a = py::none(), "max_kerb_height_m"_a = py::none(),
           "The assessment on the centreline of one segment (distance 0); NoRoadError when there "
           "is no such segment. Thresholds as in assess.")
       .def(
@@ -617,17 +643,18 @@ void bind_map(py::module_& m) {
           [](PyMap& self, std::optional<double> lat, std::optional<double> lon,
              std::optional<double> easting, std::optional<double> northing, double search_radius_m,
              std::size_t max_candidates, std::optional<double> valid_distance_m,
-             std::optional<double> threshold) {
+             std::optional<double> threshold, std::optional<double> max_kerb_height_m) {
             BetterPlaceOptions options;
             options.search_radius_m = search_radius_m;
             options.max_candidates = max_candidates;
-            options.assess = assess_options(valid_distance_m, threshold, 1000.0);
+            options.assess = assess_options(valid_distance_m, threshold, 1000.0, max_kerb_height_m);
             return value_or_raise(
                 self.get().better_place(position_from(lat, lon, easting, northing), options));
           },
           ROADCROSS_POSITION_ARGS, "search_radius_m"_a = BetterPlaceOptions{}.search_radius_m,
           "max_candidates"_a = BetterPlaceOptions{}.max_candidates,
           "valid_distance_m"_a = py::none(), "threshold"_a = py::none(),
+          "max_kerb_height_m"_a = py::none(),
           "Better places to cross nearby, reached by walking along the road on the robot's side "
           "(BetterPlaces).\n" ROADCROSS_POSITION_DOC
           "search_radius_m: walking distance, metres, > 0; max_candidates: at most this many; "

@@ -29,6 +29,10 @@ AssessCommand::AssessCommand(CLI::App& parent) {
                    "valid within this distance of a centreline, metres (default: the DB's)");
   app_->add_option("--threshold", options_.threshold,
                    "suitable when score + context >= this (default: the DB's)");
+  app_->add_option("--max-kerb-height", options_.max_kerb_height_m,
+                   "highest kerb the robot climbs, metres: a known higher kerb is KERB_TOO_HIGH "
+                   "(default: the map profile's, 1 = no limit)")
+      ->check(CLI::Range(0.0, 100.0));
 }
 
 int AssessCommand::run() {
@@ -69,6 +73,13 @@ int AssessCommand::run() {
               number_or_dash(a.sight_forward_m, "%.0f").c_str(),
               number_or_dash(a.sight_backward_m, "%.0f").c_str(),
               number_or_dash(a.required_sight_m, "%.0f").c_str());
+  // Only where the map says something: most of today's maps say nothing here.
+  if (a.kerb || a.kerb_height_m || a.crossing_island || a.pavement_far_side)
+    std::printf(
+        "kerb        %s, %s m high (robot climbs %g m)   island %s   pavement far side %s\n",
+        a.kerb ? a.kerb->c_str() : "unknown", number_or_dash(a.kerb_height_m, "%.2f").c_str(),
+        a.max_kerb_height_m, a.crossing_island ? (*a.crossing_island ? "yes" : "no") : "unknown",
+        a.pavement_far_side ? (*a.pavement_far_side ? "yes" : "no") : "unknown");
   for (const std::string& code : a.reasons) {
     std::printf("  %-20s %s\n", code.c_str(), describe_reason(code));
   }

@@ -1,7 +1,8 @@
 // Batch mode: for scripts and for checking a list of sites before a mission. Each input line is
 // a JSON object {"op": "assess" | "better" | "heading" | "nearest", "lat": .., "lon": ..} or
-// with "easting"/"northing"; optional "threshold", "valid_distance_m", "radius_m". Each output
-// line is {"line": N, "ok": true, "result": {...}} or {"line": N, "ok": false, "error": "..."};
+// with "easting"/"northing"; optional "threshold", "valid_distance_m", "max_kerb_height_m",
+// "radius_m". Each output line is {"line": N, "ok": true, "result": {...}} or
+// {"line": N, "ok": false, "error": "..."};
 // a bad line never stops the batch.
 #include <iostream>
 #include <string>
@@ -38,6 +39,8 @@ nlohmann::ordered_json handle(Map& map, const nlohmann::json& request) {
   if (request.contains("threshold")) assess.threshold = request.at("threshold").get<double>();
   if (request.contains("valid_distance_m"))
     assess.valid_distance_m = request.at("valid_distance_m").get<double>();
+  if (request.contains("max_kerb_height_m"))
+    assess.max_kerb_height_m = request.at("max_kerb_height_m").get<double>();
   if (op == "assess") return answer(map.assess(position, assess), assessment_json);
   if (op == "heading") return answer(map.road_heading(position), heading_json);
   if (op == "nearest") return answer(map.nearest(position), road_json);

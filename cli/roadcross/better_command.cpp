@@ -18,6 +18,10 @@ BetterCommand::BetterCommand(CLI::App& parent) {
       ->capture_default_str();
   app_->add_option("--threshold", options_.assess.threshold,
                    "suitable when score + context >= this (default: the DB's)");
+  app_->add_option("--max-kerb-height", options_.assess.max_kerb_height_m,
+                   "highest kerb the robot climbs, metres: a known higher kerb is KERB_TOO_HIGH "
+                   "(default: the map profile's, 1 = no limit)")
+      ->check(CLI::Range(0.0, 100.0));
 }
 
 int BetterCommand::run() {

@@ -125,6 +125,7 @@ class SimulateCommand : public Command {
   std::optional<double> lat_deg_, lon_deg_;
   std::optional<double> width_m_, maxspeed_kmh_, sight_m_;
   std::optional<int> lanes_;
+  bool island_ = false;
   double sensor_range_m_ = 200.0;
   std::vector<std::string> policies_{"ours", "hcm", "naive"};
   std::vector<double> volumes_{300.0};

@@ -68,6 +68,8 @@ nlohmann::ordered_json decision_json(const GapDecision& d, const GapCrossing& c,
       d.limiting_vehicle >= 0 ? nlohmann::ordered_json(lines[d.limiting_vehicle]) : nullptr;
   out["margin_s"] = or_null(d.margin_s);
   out["earliest_start_in_s"] = or_null(d.earliest_start_s);  // now = 0
+  out["stage"] = d.stage;
+  out["refuge_island"] = c.refuge_island;
   out["crossing_time_s"] = d.crossing_time_s;
   out["required_sight_m"] = d.required_sight_m;
   out["visible_road_m"] = d.visible_road_m;
@@ -104,8 +106,16 @@ void print_decision(const GapDecision& d, const GapCrossing& c, const GapOptions
   } else {
     std::printf("earliest    not under these predictions\n");
   }
-  std::printf("crossing    %.2f s over %d lane(s), %.1f m, %.0f km/h\n", d.crossing_time_s, c.lanes,
-              c.road_width_m, c.maxspeed_kmh);
+  if (d.stage == 0) {
+    std::printf("crossing    %.2f s over %d lane(s), %.1f m, %.0f km/h\n", d.crossing_time_s,
+                c.lanes, c.road_width_m, c.maxspeed_kmh);
+  } else {
+    std::printf(
+        "crossing    stage %d of 2 (refuge island): %.2f s over the %s lanes of %d, "
+        "%.1f m, %.0f km/h\n",
+        d.stage, d.crossing_time_s, d.stage == 1 ? "near" : "far", c.lanes, c.road_width_m,
+        c.maxspeed_kmh);
+  }
   if (hcm) {
     std::printf("critical    HCM t_c %.2f s\n", d.critical_gap_s);
   } else {

@@ -55,6 +55,14 @@ nlohmann::ordered_json assessment_json(const Assessment& a) {
   out["sight_min_m"] = or_null(a.sight_min_m);
   out["required_sight_m"] = or_null(a.required_sight_m);
   out["tunnel"] = a.tunnel;
+  out["kerb"] = or_null(a.kerb);
+  out["kerb_height_m"] = or_null(a.kerb_height_m);
+  out["max_kerb_height_m"] = a.max_kerb_height_m;
+  out["crossing_island"] = or_null(a.crossing_island);
+  out["sidewalk_left"] = or_null(a.sidewalk_left);
+  out["sidewalk_right"] = or_null(a.sidewalk_right);
+  out["robot_side"] = a.robot_side > 0 ? "left" : a.robot_side < 0 ? "right" : "unknown";
+  out["pavement_far_side"] = or_null(a.pavement_far_side);
   out["override_note"] = a.override_note;
   out["reasons"] = a.reasons;
   return out;

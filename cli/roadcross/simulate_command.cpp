@@ -28,6 +28,9 @@ SimulateCommand::SimulateCommand(CLI::App& parent) {
   app_->add_option("--sight", sight_m_,
                    "road visible each way, m (default: sensor range, cut by bend and junction)");
   app_->add_option("--sensor-range", sensor_range_m_, "sensor range, m")->capture_default_str();
+  app_->add_flag("--island", island_,
+                 "a refuge island: cross in two stages, near lanes then far lanes (default: the "
+                 "DB's crossing_island at the place, else none)");
   app_->add_option("--policy", policies_, "policies: ours, hcm, naive (comma-separated)")
       ->delimiter(',')
       ->check(CLI::IsMember({"ours", "hcm", "naive"}))
@@ -102,6 +105,7 @@ bool print_runs(const sim::Scenario& s, const std::string& policy, double volume
     out["conflict"] = r->conflict;
     out["min_pet_s"] = or_null(r->min_pet_s);
     out["waiting_s"] = r->waiting_s;
+    out["island_wait_s"] = r->island_wait_s;
     out["crossing_s"] = r->crossing_s;
     out["acceptable_gaps_offered"] = r->acceptable_gaps_offered;
     out["used_acceptable_gap"] = r->used_acceptable_gap;
@@ -137,12 +141,14 @@ int SimulateCommand::run() {
     road.maxspeed_kmh = crossing->maxspeed_kmh;
     road.sight_m = sight_distance_m(*assessment, sensor_range_m_);
     road.junction_distance_m = crossing->junction_distance_m;
+    road.refuge_island = crossing->refuge_island;
     if (label_.empty()) place = assessment->road.name.empty() ? "db" : assessment->road.name;
   }
   if (lanes_) road.lanes = *lanes_;
   if (width_m_) road.width_m = *width_m_;
   if (maxspeed_kmh_) road.maxspeed_kmh = *maxspeed_kmh_;
   if (sight_m_) road.sight_m = *sight_m_;
+  if (island_) road.refuge_island = true;
   scenario_.road = road;
 
   std::vector<Row> rows;
@@ -180,7 +186,8 @@ int SimulateCommand::run() {
                    {"width_m", road.width_m},
                    {"maxspeed_kmh", road.maxspeed_kmh},
                    {"sight_m", road.sight_m},
-                   {"junction_distance_m", or_null(road.junction_distance_m)}};
+                   {"junction_distance_m", or_null(road.junction_distance_m)},
+                   {"refuge_island", road.refuge_island}};
     out["robot"] = {{"speed_mps", scenario_.robot.speed_mps},
                     {"startup_s", scenario_.robot.startup_s}};
     out["runs"] = runs_;
@@ -197,6 +204,12 @@ int SimulateCommand::run() {
       road.junction_distance_m ? std::to_string(std::lround(*road.junction_distance_m)).c_str()
                                : "-",
       runs_, static_cast<unsigned long long>(seed_));
+  if (road.refuge_island && road.lanes >= 2) {
+    std::printf(
+        "refuge island: two stages (%d near lane(s), then %d far), waits include the "
+        "island's\n",
+        road.lanes / 2, road.lanes - road.lanes / 2);
+  }
   std::printf("%-9s %7s %8s %10s %9s %10s %9s %9s %8s %8s\n", "policy", "veh/h/l", "crossed",
               "collisions", "conflicts", "mean wait", "p95 wait", "crossing", "gaps", "min PET");
   for (const Row& r : rows) {

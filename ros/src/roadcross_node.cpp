@@ -18,6 +18,7 @@
 #include <nav_msgs/Odometry.h>
 #include <sensor_msgs/NavSatFix.h>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <string>
@@ -45,6 +46,11 @@ double or_nan(const std::optional<double>& value) {
 /// Yaw about +z of a quaternion (the robot's heading in its frame), radians.
 double yaw_of(const geometry_msgs::Quaternion& q) {
   return std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
+}
+
+/// 1, 0, or -1 for unknown (the messages' int8 flags).
+std::int8_t tri_state(const std::optional<bool>& value) {
+  return value ? static_cast<std::int8_t>(*value ? 1 : 0) : static_cast<std::int8_t>(-1);
 }
 
 /// A parameter with a default and a check; exits through ROS_FATAL (returns nullopt) when the
@@ -123,6 +129,13 @@ bool read_settings(const ros::NodeHandle& nh, Settings& s) {
       return false;
     }
     s.assess.threshold = value;
+  }
+  if (nh.getParam("assess/max_kerb_height_m", value)) {
+    if (!non_negative(value)) {
+      ROS_FATAL("parameter ~assess/max_kerb_height_m = %g is out of range: >= 0 metres", value);
+      return false;
+    }
+    s.assess.max_kerb_height_m = value;
   }
   set(s.better.search_radius_m,
       param(nh, "better_place/search_radius_m", 100.0, positive, "> 0 metres"));
@@ -319,6 +332,11 @@ class RoadcrossNode {
     out.sight_min_m = or_nan(a.sight_min_m);
     out.required_sight_m = or_nan(a.required_sight_m);
     out.tunnel = a.tunnel;
+    out.kerb = a.kerb.value_or("");
+    out.kerb_height_m = or_nan(a.kerb_height_m);
+    out.max_kerb_height_m = a.max_kerb_height_m;
+    out.crossing_island = tri_state(a.crossing_island);
+    out.pavement_far_side = tri_state(a.pavement_far_side);
     out.override_note = a.override_note;
   }
 
@@ -520,6 +538,7 @@ class RoadcrossNode {
     res.limiting_vehicle = d->limiting_vehicle;
     res.margin_s = or_nan(d->margin_s);
     res.earliest_start_in_s = or_nan(d->earliest_start_s);
+    res.stage = d->stage;
     res.crossing_time_s = d->crossing_time_s;
     res.required_sight_m = d->required_sight_m;
     res.visible_road_m = d->visible_road_m;

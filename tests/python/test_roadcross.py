@@ -378,6 +378,55 @@ class HandDerived(unittest.TestCase):
         self.assertIsNone(d.earliest_start_s)
 
 
+@NEEDS_BUILD
+class KerbsAndIslands(unittest.TestCase):
+    """tests/data/kerbs.osm (its comment describes it): way 10 along lat 50.0 has a crossing with
+    a refuge island at lon 14.4 whose highest kerb is 0.12 m, and a pavement on its right (south)
+    side only."""
+
+    @classmethod
+    def setUpClass(cls):
+        path = os.path.join(tmp.name, "kerbs.gpkg")
+        subprocess.run([BUILD, "--osm", os.path.join(DATA, "kerbs.osm"), "-o", path, "-q"],
+                       check=True)
+        cls.map = roadcross.Map(path)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.map.close()
+
+    def test_kerb_capability_per_call(self):
+        low = self.map.assess(lat=50.00003, lon=14.4, threshold=-1000, max_kerb_height_m=0.1)
+        self.assertEqual((low.kerb, low.kerb_height_m, low.crossing_island), ("lowered", 0.12, True))
+        self.assertIn("KERB_TOO_HIGH", low.reasons)
+        self.assertFalse(low.suitable)
+        high = self.map.assess(lat=50.00003, lon=14.4, threshold=-1000, max_kerb_height_m=0.2)
+        self.assertTrue(high.suitable)
+        self.assertEqual((high.robot_side, high.pavement_far_side), (1, True))
+        with self.assertRaises(roadcross.InvalidArgumentError):
+            self.map.assess(lat=50.00003, lon=14.4, max_kerb_height_m=-1.0)
+
+    def test_far_side_without_pavement(self):
+        south = self.map.assess(lat=49.99997, lon=14.4, threshold=-1000)
+        self.assertEqual((south.robot_side, south.pavement_far_side), (-1, False))
+        self.assertIn("NO_PAVEMENT_FAR_SIDE", south.reasons)
+        places = self.map.better_place(lat=49.99997, lon=14.3993, threshold=-1000)
+        self.assertEqual(len(places), 0)
+
+    def test_two_stages(self):
+        # The crossing of gap_island_test.cpp: 6 m, 2 lanes, the robot 1 m/s, 1 s start-up,
+        # radius 0.5 m: stage 1 leaves lane 0 at 1 + 4.5 = 5.5 s, stage 2 (from the island)
+        # lane 1 at 1 + 3.5 = 4.5 s.
+        for stage, start_y, crossing_time_s in ((1, 0.0, 5.5), (2, 4.0, 4.5)):
+            c = roadcross.GapCrossing(start=roadcross.PlanePoint(easting_m=0.0, northing_m=start_y),
+                                      centre=roadcross.PlanePoint(easting_m=0.0, northing_m=4.0),
+                                      heading_rad=math.pi / 2, refuge_island=True, stage=stage)
+            d = roadcross.gap_decision(c, [], now_s=0.0, speed_mps=1.0, startup_s=1.0,
+                                       radius_m=0.5)
+            self.assertEqual(d.stage, stage)
+            self.assertAlmostEqual(d.crossing_time_s, crossing_time_s)
+
+
 class WithoutMap(unittest.TestCase):
     """Errors and the pure computations: also in the runtime-only build."""
 
