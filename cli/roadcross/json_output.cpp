@@ -61,7 +61,7 @@ nlohmann::ordered_json assessment_json(const Assessment& a) {
   out["crossing_island"] = or_null(a.crossing_island);
   out["sidewalk_left"] = or_null(a.sidewalk_left);
   out["sidewalk_right"] = or_null(a.sidewalk_right);
-  out["robot_side"] = a.robot_side > 0 ? "left" : a.robot_side < 0 ? "right" : "unknown";
+  out["robot_side"] = a.robot_side;  // +1 left of the way's direction, -1 right, 0 unknown
   out["pavement_far_side"] = or_null(a.pavement_far_side);
   out["override_note"] = a.override_note;
   out["reasons"] = a.reasons;

@@ -32,7 +32,7 @@ north=(--db "$WORK/k.gpkg" --lat 50.00003 --lon 14.4 --threshold -1000)
   pass "0.12 m kerb, robot climbs 0.1 m: KERB_TOO_HIGH" || fail "kerb too high: $(cat "$WORK/low.json")"
 "$ROADCROSS" assess "${north[@]}" --max-kerb-height 0.15 --json >"$WORK/ok.json"
 [[ $(json_field "$WORK/ok.json" suitable) == True && $(json_field "$WORK/ok.json" pavement_far_side) == True &&
-   $(json_field "$WORK/ok.json" robot_side) == left ]] &&
+   $(json_field "$WORK/ok.json" robot_side) == 1 ]] &&
   pass "robot climbs 0.15 m: suitable" || fail "kerb ok: $(cat "$WORK/ok.json")"
 "$ROADCROSS" assess "${north[@]}" --max-kerb-height 0.1 | grep -q "^kerb        lowered, 0.12 m high (robot climbs 0.1 m)   island yes   pavement far side yes" &&
   pass "assess prints the kerb line" || fail "assess text: $("$ROADCROSS" assess "${north[@]}" --max-kerb-height 0.1)"

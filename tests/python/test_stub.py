@@ -372,7 +372,7 @@ class StubMatchesModule(unittest.TestCase):
         self.assertTrue(all(p[3] for p in params[1:]))
         self.assertEqual(params[1][1:3], (("Optional", (("float", ()),)), "None"))
         self.assertEqual(returns, ("Assessment", ()))
-        self.assertEqual(len(binding_members(roadcross.Assessment)), 32)  # 31 + __repr__
+        self.assertEqual(len(binding_members(roadcross.Assessment)), 40)  # 39 + __repr__
 
     def test_error_code_is_set(self):
         with self.assertRaises(roadcross.Error) as caught:
@@ -402,8 +402,10 @@ class CheckerCatchesMistakes(unittest.TestCase):
          "def valid_distance_mm(self) -> float:", "valid_distance_mm"),
         ("dropped *", "def assess_segment(\n        self,\n        segment_id: int,\n        *,",
          "def assess_segment(\n        self,\n        segment_id: int,", "keyword-only"),
-        ("changed default", "max_distance_m: float = 1000.0,\n    ) -> Assessment:",
-         "max_distance_m: float = 100.0,\n    ) -> Assessment:", "default 100.0"),
+        ("changed default",
+         "max_distance_m: float = 1000.0,\n        max_kerb_height_m: Optional[float] = None,\n    ) -> Assessment:",
+         "max_distance_m: float = 100.0,\n        max_kerb_height_m: Optional[float] = None,\n    ) -> Assessment:",
+         "default 100.0"),
         ("int default for a float", "kerb_margin_m: float = 0.5,", "kerb_margin_m: float = 1,",
          "kerb_margin_m"),
         ("default added", "vx_mps: float,", "vx_mps: float = 0.0,", "vx_mps"),
