@@ -234,6 +234,7 @@ class AgreesWithCli(unittest.TestCase):
         got = {"decision": d.verdict, "reason": d.reason, "limiting_vehicle": d.limiting_vehicle,
                "limiting_line": d.limiting_vehicle + 1 if d.limiting_vehicle >= 0 else None,
                "margin_s": d.margin_s, "earliest_start_in_s": d.earliest_start_s,
+               "stage": d.stage, "refuge_island": crossing.refuge_island,
                "crossing_time_s": d.crossing_time_s, "required_sight_m": d.required_sight_m,
                "visible_road_m": d.visible_road_m, "critical_gap_s": d.critical_gap_s, "vehicles_counted": d.vehicles_counted,
                "stale_tracks": d.stale_tracks, "beyond_sensor_range": d.beyond_sensor_range,
