@@ -4,6 +4,7 @@
 #include <string_view>
 
 #include "map_impl.hpp"
+#include "roadcross/schema/verdict.hpp"
 
 namespace roadcross {
 namespace detail {
@@ -108,9 +109,9 @@ bool has(const std::vector<std::string>& codes, std::string_view code) {
 namespace {
 
 // Reads the segment's identity and cost terms (one primary-key read of the `assessment`
-// statement) into `a` and applies the suitability rule. a.road.segment_id, a.road.distance_m and
-// the thresholds must be set. The one place the rule lives: assess and assess_segment both
-// judge through it, so that a map view can never disagree with assess.
+// statement) into `a` and applies the suitability rule. a.road.segment_id, a.road.distance_m
+// and the thresholds must be set. The rule itself is schema::judge_segment, which better_place
+// applies too, so that no surface can disagree with assess.
 Status judge(sqlite::Statement& row, Assessment& a, bool limited_visibility_unsuitable) {
   row.bind(1, a.road.segment_id);
   if (!row.step()) {
@@ -146,22 +147,18 @@ Status judge(sqlite::Statement& row, Assessment& a, bool limited_visibility_unsu
   a.sight_backward_m = optional_double(row, 24);
   a.sight_min_m = optional_double(row, 25);
   a.required_sight_m = optional_double(row, 26);
+  const schema::Verdict verdict = schema::judge_segment(
+      {a.score, a.context_score, row.column_text_view(18), a.tunnel, no_crossing, force_suitable},
+      {a.threshold, limited_visibility_unsuitable});
   row.reset();
 
   a.valid = a.road.distance_m <= a.valid_distance_m;
   if (!a.valid) a.reasons.insert(a.reasons.begin(), "TOO_FAR_FROM_ROAD");
   if (!a.elevation_cost && !has(a.reasons, "NO_ELEVATION")) a.reasons.emplace_back("NO_ELEVATION");
-  const int total = a.score.value_or(0) + a.context_score.value_or(0);
-  const bool forbidden = has(a.reasons, "NOT_CROSSABLE_CLASS") || a.tunnel || no_crossing;
-  const bool hidden = limited_visibility_unsuitable && has(a.reasons, "LIMITED_VISIBILITY");
-  const bool good_enough = a.score.has_value() && total >= a.threshold;
-  if (!good_enough && !force_suitable) a.reasons.emplace_back("LOW_SCORE");
+  if (verdict.low_score) a.reasons.emplace_back("LOW_SCORE");
   if ((no_crossing || force_suitable) && !has(a.reasons, "OVERRIDE"))
     a.reasons.emplace_back("OVERRIDE");
-  // An operator's force_suitable overrides the score and the computed sight distance (the
-  // operator may know of a mirror, or of a hedge cut back), never the class, a tunnel or
-  // validity.
-  a.suitable = a.valid && !forbidden && ((good_enough && !hidden) || force_suitable);
+  a.suitable = a.valid && verdict.suitable;
   return Status{};
 }
 
