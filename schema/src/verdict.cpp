@@ -24,8 +24,8 @@ Verdict judge_segment(const VerdictTerms& terms, const VerdictThresholds& thresh
   // An operator's force_suitable overrides the score and the computed sight distance (the
   // operator may know of a mirror, or of a hedge cut back).
   if (!terms.override_force_suitable) {
-    v.limited_visibility = thresholds.limited_visibility_unsuitable &&
-                           has_reason(terms.reasons, "LIMITED_VISIBILITY");
+    v.limited_visibility =
+        thresholds.limited_visibility_unsuitable && has_reason(terms.reasons, "LIMITED_VISIBILITY");
     v.low_score = !v.score_reaches_threshold;
   }
   v.suitable =

@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
-# One verdict everywhere (issue 23): on the bundled Prague map (default build, with the sight
-# stage, so LIMITED_VISIBILITY occurs), every place better_place offers is judged as assess
+# One verdict everywhere (issue 23): on the bundled Prague map with its SRTM tile (default
+# build, sight stage on: LIMITED_VISIBILITY occurs), every place better_place offers is judged as assess
 # judges a robot standing there. 300 robots stand 3 m beside real segments (every 20th); each
 # candidate's point is then assessed through the same `roadcross batch`, and where assess finds
 # the candidate's segment nearest, both must say the same suitable. The old rule of better_place
 # (score + context only) disagreed on ~15 % of its candidates here.
 source "$(dirname "$0")/lib.sh"
 db="$WORK/prague.gpkg"
-"$ROADCROSS_BUILD" --osm "$PRAGUE_OSM" -o "$db" -q
+"$ROADCROSS_BUILD" --osm "$PRAGUE_OSM" --elevation "$ROADCROSS_MAPS_DIR/prague/N50E014.hgt" -o "$db" -q
 
 # Robots: 3 m left of each 20th segment's first edge's midpoint (GeoPackage blob: 8-byte header,
 # an envelope whose size the flags give, then WKB LineString, little-endian).

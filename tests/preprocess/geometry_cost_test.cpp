@@ -7,12 +7,12 @@
 #include <array>
 #include <cmath>
 
-#include "roadcross/preprocess/geometry/curvature.hpp"
 #include "roadcross/preprocess/common/errors.hpp"
+#include "roadcross/preprocess/geometry/curvature.hpp"
 #include "roadcross/preprocess/geometry/geometry_cost.hpp"
+#include "roadcross/preprocess/graph/strokes.hpp"
 #include "roadcross/preprocess/parameters.hpp"
 #include "roadcross/preprocess/rank.hpp"
-#include "roadcross/preprocess/graph/strokes.hpp"
 #include "roadcross/preprocess/terrain/terrain.hpp"
 
 namespace rp = roadcross::preprocess;

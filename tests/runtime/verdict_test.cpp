@@ -19,7 +19,7 @@ rs::VerdictTerms terms(std::optional<int> score, std::optional<int> context,
 
 TEST(Verdict, ScorePlusContextAgainstTheThreshold) {
   const rs::VerdictThresholds at20{20.0, true};
-  EXPECT_TRUE(rs::judge_segment(terms(11, 9), at20).suitable);  // 20 >= 20
+  EXPECT_TRUE(rs::judge_segment(terms(11, 9), at20).suitable);    // 20 >= 20
   const rs::Verdict low = rs::judge_segment(terms(11, 8), at20);  // 19 < 20
   EXPECT_FALSE(low.suitable);
   EXPECT_TRUE(low.low_score);
@@ -28,14 +28,14 @@ TEST(Verdict, ScorePlusContextAgainstTheThreshold) {
   EXPECT_TRUE(rs::judge_segment(terms(15, std::nullopt), {15.0, true}).suitable);
   EXPECT_FALSE(rs::judge_segment(terms(std::nullopt, 30), at20).suitable);
   // Costs (NEAR_JUNCTION, SHARP_BEND, CREST_OR_DIP, BUSY_ROAD) are in the score, not vetoes.
-  EXPECT_TRUE(rs::judge_segment(terms(12, 10, "NEAR_JUNCTION,SHARP_BEND,CREST_OR_DIP,BUSY_ROAD"),
-                                at20)
-                  .suitable);
+  EXPECT_TRUE(
+      rs::judge_segment(terms(12, 10, "NEAR_JUNCTION,SHARP_BEND,CREST_OR_DIP,BUSY_ROAD"), at20)
+          .suitable);
 }
 
 TEST(Verdict, LimitedVisibilityForbidsUnlessInCostMode) {
-  const rs::Verdict hidden = rs::judge_segment(terms(15, 10, "SHARP_BEND,LIMITED_VISIBILITY"),
-                                               {20.0, true});
+  const rs::Verdict hidden =
+      rs::judge_segment(terms(15, 10, "SHARP_BEND,LIMITED_VISIBILITY"), {20.0, true});
   EXPECT_FALSE(hidden.suitable);
   EXPECT_EQ(rs::forbidding_codes(hidden), std::vector<std::string_view>{"LIMITED_VISIBILITY"});
   EXPECT_TRUE(

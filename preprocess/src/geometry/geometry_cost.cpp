@@ -10,8 +10,8 @@
 #include <unordered_map>
 #include <utility>
 
-#include "roadcross/preprocess/geometry/curvature.hpp"
 #include "roadcross/preprocess/common/errors.hpp"
+#include "roadcross/preprocess/geometry/curvature.hpp"
 #include "roadcross/preprocess/graph/strokes.hpp"
 
 namespace roadcross::preprocess {
@@ -270,8 +270,8 @@ std::vector<StrokeSegment> road_beyond(const RoadGraph& graph, const Incidences&
     std::optional<Incidence> next;
     const std::span<const Incidence> ends = nodes.at(node);
     if (ends.size() == 2) {
-      next = (ends[0].piece == arrived.piece && ends[0].at_end == arrived.at_end) ? ends[1]
-                                                                                  : ends[0];
+      next =
+          (ends[0].piece == arrived.piece && ends[0].at_end == arrived.at_end) ? ends[1] : ends[0];
     } else {
       next = road_goes_on(graph, nodes, node, arrived);
     }
@@ -280,8 +280,7 @@ std::vector<StrokeSegment> road_beyond(const RoadGraph& graph, const Incidences&
     const RoadPiece& piece = graph.pieces[next->piece];
     const bool reversed = next->at_end;  // leaving from its to-node: walking it backwards
     for (std::size_t k = 0; k < piece.segment_count; ++k) {
-      const std::size_t index =
-          piece.first_segment + (reversed ? piece.segment_count - 1 - k : k);
+      const std::size_t index = piece.first_segment + (reversed ? piece.segment_count - 1 - k : k);
       const double length = graph.length_m(graph.segments[index]);
       out.push_back({index, reversed, walked_m, walked_m + length});
       walked_m += length;
@@ -309,9 +308,8 @@ Stroke extend_along_road(const RoadGraph& graph, const Incidences& nodes, const 
   const Segment& first_segment = graph.segments[first.segment];
   const std::int64_t start_node =
       first.reversed ? graph.to_node_id(first_segment) : graph.from_node_id(first_segment);
-  const std::vector<StrokeSegment> before =
-      road_beyond(graph, nodes, start_node, {first_segment.piece_index, first.reversed}, reach_m,
-                  used);
+  const std::vector<StrokeSegment> before = road_beyond(
+      graph, nodes, start_node, {first_segment.piece_index, first.reversed}, reach_m, used);
   const StrokeSegment& last = stroke.segments.back();
   const Segment& last_segment = graph.segments[last.segment];
   const std::int64_t end_node =
@@ -326,8 +324,7 @@ Stroke extend_along_road(const RoadGraph& graph, const Incidences& nodes, const 
     extended.segments.push_back({it->segment, it->reversed, -it->end_m, -it->start_m});
   }
   own_first = extended.segments.size();
-  extended.segments.insert(extended.segments.end(), stroke.segments.begin(),
-                           stroke.segments.end());
+  extended.segments.insert(extended.segments.end(), stroke.segments.begin(), stroke.segments.end());
   for (const StrokeSegment& ss : after) {
     extended.segments.push_back(
         {ss.segment, ss.reversed, stroke.length_m + ss.start_m, stroke.length_m + ss.end_m});
@@ -341,9 +338,9 @@ void assign_curvature_costs(RoadGraph& graph, const Stroke& stroke, const Geomet
                             const Incidences* through_junctions) {
   std::size_t own_first = 0;
   const Stroke window_road =
-      through_junctions ? extend_along_road(graph, *through_junctions, stroke,
-                                            p.window_half_length_m, own_first)
-                        : stroke;
+      through_junctions
+          ? extend_along_road(graph, *through_junctions, stroke, p.window_half_length_m, own_first)
+          : stroke;
   std::vector<double> weights;
   weights.reserve(window_road.segments.size());
   for (const StrokeSegment& s : window_road.segments) {
@@ -373,9 +370,8 @@ void compute_geometry_costs(RoadGraph& graph, const GeometryParameters& p) {
   const std::vector<std::uint8_t> within_junction_extent =
       assign_junction_distances(graph, nodes, p);
   // Every level first: a window reaches beyond its stroke into the road that goes on.
-  for_each_stroke(graph, [&](const Stroke& stroke) {
-    assign_radii(graph, stroke, within_junction_extent, p);
-  });
+  for_each_stroke(
+      graph, [&](const Stroke& stroke) { assign_radii(graph, stroke, within_junction_extent, p); });
   const Incidences* through = p.window_through_junctions != 0.0 ? &nodes : nullptr;
   for_each_stroke(graph,
                   [&](const Stroke& stroke) { assign_curvature_costs(graph, stroke, p, through); });

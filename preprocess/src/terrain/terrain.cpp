@@ -14,8 +14,8 @@
 #include <string>
 
 #include "roadcross/preprocess/common/errors.hpp"
-#include "roadcross/preprocess/graph/strokes.hpp"
 #include "roadcross/preprocess/common/two_cores.hpp"
+#include "roadcross/preprocess/graph/strokes.hpp"
 
 namespace roadcross::preprocess {
 

@@ -12,9 +12,9 @@
 #include <string_view>
 #include <vector>
 
-#include "roadcross/preprocess/terrain/elevation_input.hpp"
 #include "roadcross/preprocess/common/parameter_spec.hpp"
 #include "roadcross/preprocess/graph/segments.hpp"
+#include "roadcross/preprocess/terrain/elevation_input.hpp"
 #include "roadcross/preprocess/terrain/terrain_grid.hpp"
 
 namespace roadcross::preprocess {
