@@ -19,7 +19,7 @@ Verdict judge_segment(const VerdictTerms& terms, const VerdictThresholds& thresh
   v.score_reaches_threshold = terms.score.has_value() && total >= thresholds.threshold;
   // Never suitable, whatever an operator says: the class, a tunnel, a no_crossing override.
   v.not_crossable_class = has_reason(terms.reasons, "NOT_CROSSABLE_CLASS");
-  v.tunnel = terms.tunnel;
+  v.tunnel = terms.tunnel || has_reason(terms.reasons, "TUNNEL");
   v.no_crossing = terms.override_no_crossing;
   // An operator's force_suitable overrides the score and the computed sight distance (the
   // operator may know of a mirror, or of a hedge cut back).
