@@ -6,6 +6,7 @@
 
 #include "map_impl.hpp"
 #include "roadcross/schema/reasons.hpp"
+#include "roadcross/schema/verdict.hpp"
 
 namespace roadcross {
 namespace detail {
@@ -136,9 +137,9 @@ namespace {
 
 // Reads the segment's identity and cost terms (one primary-key read of the `assessment`
 // statement) into `a` and applies the suitability rule. a.road.segment_id, a.road.distance_m,
-// a.robot_side, a.max_kerb_height_m and the thresholds must be set. The one place the rule
-// lives: assess and assess_segment both judge through it, so that a map view can never
-// disagree with assess.
+// a.robot_side, a.max_kerb_height_m and the thresholds must be set. The rule itself is
+// schema::judge_segment with the robot's two rules (kerb, far pavement), which better_place
+// applies too, so that no surface can disagree with assess.
 Status judge(sqlite::Statement& row, Assessment& a, bool limited_visibility_unsuitable) {
   row.bind(1, a.road.segment_id);
   if (!row.step()) {
@@ -182,31 +183,28 @@ Status judge(sqlite::Statement& row, Assessment& a, bool limited_visibility_unsu
   a.crossing_island = optional_flag(row, C::crossing_island);
   a.sidewalk_left = optional_flag(row, C::sidewalk_left);
   a.sidewalk_right = optional_flag(row, C::sidewalk_right);
+  const schema::Verdict verdict =
+      schema::judge_segment({a.score, a.context_score, row.column_text_view(at[C::reasons]),
+                             a.tunnel, no_crossing, force_suitable},
+                            {a.threshold, limited_visibility_unsuitable});
   row.reset();
 
   a.valid = a.road.distance_m <= a.valid_distance_m;
   if (!a.valid) a.reasons.insert(a.reasons.begin(), "TOO_FAR_FROM_ROAD");
   if (!a.elevation_cost && !has(a.reasons, "NO_ELEVATION")) a.reasons.emplace_back("NO_ELEVATION");
-  const int total = a.score.value_or(0) + a.context_score.value_or(0);
   // What the robot cannot do: climb a kerb known to be higher than it can, or leave the road
-  // onto a far side tagged without a pavement. Unknown (NULL) never forbids.
+  // onto a far side tagged without a pavement. Unknown (NULL) never forbids, and an operator's
+  // force_suitable does not lift either.
   const bool kerb_too_high = a.kerb_height_m && *a.kerb_height_m > a.max_kerb_height_m + 1e-9;
   if (kerb_too_high) a.reasons.emplace_back("KERB_TOO_HIGH");
   if (a.robot_side != 0)
     a.pavement_far_side = a.robot_side > 0 ? a.sidewalk_right : a.sidewalk_left;
   const bool stranded = a.pavement_far_side.has_value() && !*a.pavement_far_side;
   if (stranded) a.reasons.emplace_back("NO_PAVEMENT_FAR_SIDE");
-  const bool forbidden = has(a.reasons, "NOT_CROSSABLE_CLASS") || has(a.reasons, "TUNNEL") ||
-                         a.tunnel || no_crossing || kerb_too_high || stranded;
-  const bool hidden = limited_visibility_unsuitable && has(a.reasons, "LIMITED_VISIBILITY");
-  const bool good_enough = a.score.has_value() && total >= a.threshold;
-  if (!good_enough && !force_suitable) a.reasons.emplace_back("LOW_SCORE");
+  if (verdict.low_score) a.reasons.emplace_back("LOW_SCORE");
   if ((no_crossing || force_suitable) && !has(a.reasons, "OVERRIDE"))
     a.reasons.emplace_back("OVERRIDE");
-  // An operator's force_suitable overrides the score and the computed sight distance (the
-  // operator may know of a mirror, or of a hedge cut back), never the class, a tunnel,
-  // validity, or what the robot cannot climb or reach.
-  a.suitable = a.valid && !forbidden && ((good_enough && !hidden) || force_suitable);
+  a.suitable = a.valid && verdict.suitable && !kerb_too_high && !stranded;
   return Status{};
 }
 

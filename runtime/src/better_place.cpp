@@ -7,6 +7,7 @@
 
 #include "map_impl.hpp"
 #include "polyline.hpp"
+#include "roadcross/schema/verdict.hpp"
 
 namespace roadcross {
 namespace {
@@ -15,8 +16,7 @@ struct LocalSegment {
   std::int64_t id = 0, from = 0, to = 0;
   double length_m = 0.0;
   std::vector<schema::PlanePoint> points;
-  int score = 0, context = 0;
-  bool has_score = false;
+  std::optional<int> score, context;
   std::string reasons;
   bool tunnel = false, no_crossing = false, force_suitable = false;
   std::optional<double> crossing_distance_m;
@@ -50,9 +50,10 @@ std::vector<LocalSegment> load_neighbourhood(sqlite::Database& db, int schema_ve
     s.from = query.column_int64(kColumns[C::from_node_id]);
     s.to = query.column_int64(kColumns[C::to_node_id]);
     s.length_m = query.column_double(kColumns[C::length_m]);
-    s.has_score = !query.column_is_null(kColumns[C::score]);
-    s.score = static_cast<int>(query.column_int64(kColumns[C::score]));
-    s.context = static_cast<int>(query.column_int64(kColumns[C::context_score]));
+    if (!query.column_is_null(kColumns[C::score]))
+      s.score = static_cast<int>(query.column_int64(kColumns[C::score]));
+    if (!query.column_is_null(kColumns[C::context_score]))
+      s.context = static_cast<int>(query.column_int64(kColumns[C::context_score]));
     s.reasons = query.column_text(kColumns[C::reasons]);
     s.tunnel = query.column_int64(kColumns[C::tunnel]) != 0;
     s.no_crossing = query.column_int64(kColumns[C::override_no_crossing]) != 0;
@@ -138,7 +139,11 @@ Result<BetterPlaces> Map::better_place(const Position& position,
     const double cross =
         std::cos(yaw) * (robot.y - on.closest.y) - std::sin(yaw) * (robot.x - on.closest.x);
     const double side_of_start = cross >= 0.0 ? 1.0 : -1.0;
-    const double offset_m = std::max(here->road.distance_m, 1.0);
+    // Candidates stand at the robot's offset from the centreline, but never farther than the
+    // valid distance: a place offered as suitable must be one assess calls suitable.
+    const double valid_distance_m =
+        options.assess.valid_distance_m.value_or(impl_->thresholds.valid_distance_m);
+    const double offset_m = std::min(std::max(here->road.distance_m, 1.0), valid_distance_m);
     double along_m = 0.0;
     for (std::size_t i = 0; i < on.edge_index; ++i) {
       along_m += std::hypot(local[start].points[i + 1].x - local[start].points[i].x,
@@ -218,18 +223,23 @@ Result<BetterPlaces> Map::better_place(const Position& position,
     }
 
     BetterPlaces result;
-    const double threshold = options.assess.threshold.value_or(impl_->thresholds.threshold);
+    const schema::VerdictThresholds thresholds{
+        options.assess.threshold.value_or(impl_->thresholds.threshold),
+        impl_->thresholds.limited_visibility_unsuitable};
     const double max_kerb_height_m = here->max_kerb_height_m;
     for (const auto& [i, r] : reached) {
       if (r.distance_m > options.search_radius_m) continue;
       const LocalSegment& s = local[i];
-      const bool forbidden =
-          s.tunnel || s.no_crossing || s.reasons.find("NOT_CROSSABLE_CLASS") != std::string::npos;
-      if (forbidden || s.reasons.find("NEAR_JUNCTION") != std::string::npos) continue;
+      const schema::Verdict verdict = schema::judge_segment(
+          {s.score, s.context, s.reasons, s.tunnel, s.no_crossing, s.force_suitable}, thresholds);
+      // Never-crossable places and junctions are not offered at all.
+      if (verdict.not_crossable_class || verdict.tunnel || verdict.no_crossing ||
+          schema::has_reason(s.reasons, "NEAR_JUNCTION"))
+        continue;
       Candidate c;
       c.segment_id = s.id;
       c.walking_distance_m = r.distance_m;
-      c.score = s.score + s.context;
+      c.score = s.score.value_or(0) + s.context.value_or(0);
       c.designated_crossing = s.crossing_distance_m && *s.crossing_distance_m <= 5.0;
       const auto [mid, direction] = point_and_direction(s.points, 0.5);
       const double side = side_of_segment[i];
@@ -238,8 +248,8 @@ Result<BetterPlaces> Map::better_place(const Position& position,
       const bool kerb_too_high = s.kerb_height_m && *s.kerb_height_m > max_kerb_height_m + 1e-9;
       const std::optional<bool> far_pavement = side > 0 ? s.sidewalk_right : s.sidewalk_left;
       const bool stranded = far_pavement.has_value() && !*far_pavement;
-      c.suitable =
-          s.has_score && (c.score >= threshold || s.force_suitable) && !kerb_too_high && !stranded;
+      // At offset_m, within the valid distance: the segment's verdict and the robot's rules.
+      c.suitable = verdict.suitable && !kerb_too_high && !stranded;
       c.point = {mid.x - side * offset_m * std::sin(direction),
                  mid.y + side * offset_m * std::cos(direction)};
       // From the left (+1) of the road's direction the crossing points to its right, and back.

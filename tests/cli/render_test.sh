@@ -83,6 +83,10 @@ with open(f'{work}/points.txt', 'w') as points, open(f'{work}/expected.txt', 'w'
         if any(o is not f and s != ok and near_segment(m, o['geometry']['coordinates']) < 6 for o, s in neighbours(m)):
             continue
         rank = f['properties']['rank']
+        # For the rank check, also no segment of another rank within 6 m (-1: not checked): the
+        # 20 m junction reach puts short runs of other ranks next to many rank-0 segments.
+        if any(o is not f and o['properties']['rank'] != rank and near_segment(m, o['geometry']['coordinates']) < 6 for o, _ in neighbours(m)):
+            rank = -1
         points.write(f'{m[0]} {m[1]}\n')
         expected.write(f"{int(ok)} {rank}\n")
 PY
@@ -102,7 +106,8 @@ read -r s sok u uok <"$WORK/tally.txt"
 gdallocationinfo -geoloc -valonly "$WORK/rank.png" <"$WORK/points.txt" | paste - - - >"$WORK/rank_colours.txt"
 read -r r0 r0ok < <(paste -d' ' "$WORK/expected.txt" "$WORK/rank_colours.txt" | awk '
   $2 == 0 { n++; if ($3 == 253 && $4 == 231 && $5 == 37) ok++ } END { print n + 0, ok + 0 }')
-# (90 %: the places were chosen away from lines of the other verdict, not of another rank.)
+# (90 %: the places are away from lines of another rank too, but a crossing symbol or a wide
+# junction's lines may still cover a few.)
 ((r0 >= 10 && r0ok * 100 >= r0 * 90)) && pass "rank 0 midpoints yellow: $r0ok of $r0" ||
   fail "rank 0 midpoints yellow: $r0ok of $r0"
 for by in landform context; do

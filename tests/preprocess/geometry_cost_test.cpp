@@ -1,15 +1,19 @@
 // Geometry cost: circumradius, curvature on drawn arcs, junction distance along the road,
-// the curvature window, class cost, rank. Expected values are computed by hand in comments.
+// the junction's level-5 reach, the curvature window (through junctions), the elevation cost's
+// scale and window, class cost, rank. Expected values are computed by hand in comments.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 
-#include "roadcross/preprocess/geometry/curvature.hpp"
 #include "roadcross/preprocess/common/errors.hpp"
+#include "roadcross/preprocess/geometry/curvature.hpp"
 #include "roadcross/preprocess/geometry/geometry_cost.hpp"
+#include "roadcross/preprocess/graph/strokes.hpp"
 #include "roadcross/preprocess/parameters.hpp"
 #include "roadcross/preprocess/rank.hpp"
-#include "roadcross/preprocess/graph/strokes.hpp"
+#include "roadcross/preprocess/terrain/terrain.hpp"
 
 namespace rp = roadcross::preprocess;
 using rp::PlanePoint;
@@ -22,12 +26,16 @@ constexpr double kPi = 3.14159265358979323846;
 
 struct GraphBuilder {
   rp::RoadGraph graph;
-  /// Adds a piece from node `from` to `to` along `points`, cut into segments of <= max_m.
+  /// Adds a piece from node `from` to `to` along `points`, cut into segments of <= max_m, of
+  /// OSM way `way_id` (0: a way of its own, id = piece index + 1000) named `name`.
   void add_piece(std::int64_t from, std::int64_t to, std::vector<PlanePoint> points,
-                 const std::string& highway = "residential", double max_m = 10.0) {
+                 const std::string& highway = "residential", double max_m = 10.0,
+                 std::int64_t way_id = 0, const std::string& name = "") {
     rp::RoadPiece piece;
     piece.from_node_id = from;
     piece.to_node_id = to;
+    piece.osm_way_id = way_id != 0 ? way_id : static_cast<std::int64_t>(graph.pieces.size()) + 1000;
+    if (!name.empty()) piece.name = graph.text.intern_text(name);
     piece.highway = graph.text.intern_text(highway);
     piece.points = points;
     piece.length_m = rp::polyline_length_m(points);
@@ -301,11 +309,54 @@ TEST(Junctions, TJunctionDistancesAlongTheRoad) {
   EXPECT_FALSE(near(seg[8]));
   EXPECT_TRUE(near(seg[10]));
   EXPECT_FALSE(near(seg[11]));
-  // Segments touching the junction have curvature level 5.
+  // Level 5 on the road within geometry.junction_extent_m (20 m) of the junction: segments
+  // whose nearer end is < 20 m away. On 1-2, segment 9 (90..100) touches it, segment 8
+  // (80..90) comes within 10 m, segment 7 (70..80) only within 20 m: level 0.
   EXPECT_EQ(*seg[9].curvature_level, 5);
+  EXPECT_EQ(*seg[8].curvature_level, 5);
+  EXPECT_EQ(*seg[7].curvature_level, 0);
   EXPECT_EQ(*seg[10].curvature_level, 5);
+  EXPECT_EQ(*seg[11].curvature_level, 5);
+  EXPECT_EQ(*seg[12].curvature_level, 0);
   EXPECT_EQ(*seg[16].curvature_level, 5);  // first of 2-4
-  EXPECT_EQ(*seg[8].curvature_level, 0);
+  EXPECT_EQ(*seg[17].curvature_level, 5);
+  EXPECT_EQ(*seg[18].curvature_level, 0);
+}
+
+TEST(Junctions, LevelFiveReachIsTheSameForAnySegmentLength) {
+  // A T: main road 1 -(200 m)- 2 -(200 m)- 3 along x, side road 2 -(100 m)- 4 north. With
+  // segments of 5, 10 and 20 m (all divide 20), exactly the segments covering the 20 m next to
+  // the junction have a nearer end < 20 m from it: 20 m of level 5 on each of the three roads,
+  // 60 m in all, whatever the segment length. (Before, only the segments touching the junction
+  // were level 5: 5, 10 or 20 m a road.)
+  for (const double length_m : {5.0, 10.0, 20.0}) {
+    GraphBuilder b;
+    b.add_piece(1, 2, straight({0, 0}, {200, 0}), "residential", length_m);
+    b.add_piece(2, 3, straight({200, 0}, {400, 0}), "residential", length_m);
+    b.add_piece(2, 4, straight({200, 0}, {200, 100}), "residential", length_m);
+    rp::compute_geometry_costs(b.graph, {});
+    std::array<double, 3> level5_m{};
+    for (const rp::Segment& s : b.graph.segments) {
+      if (*s.curvature_level == 5) level5_m[s.piece_index] += b.graph.length_m(s);
+    }
+    for (std::size_t piece = 0; piece < 3; ++piece)
+      EXPECT_NEAR(level5_m[piece], 20.0, 1e-9) << length_m << " m segments, piece " << piece;
+    // The level-5 stretch ends 20 m from the junction: the segment starting there is level 0.
+    const rp::RoadPiece& main = b.graph.pieces[0];
+    const std::size_t beyond = main.first_segment + main.segment_count - 1 -
+                               static_cast<std::size_t>(std::lround(20.0 / length_m));
+    EXPECT_EQ(*b.graph.segments[beyond].curvature_level, 0) << length_m;
+  }
+  // The reach is a parameter: 0 keeps only the segments touching the junction.
+  GraphBuilder b;
+  b.add_piece(1, 2, straight({0, 0}, {200, 0}));
+  b.add_piece(2, 3, straight({200, 0}, {400, 0}));
+  b.add_piece(2, 4, straight({200, 0}, {200, 100}));
+  rp::GeometryParameters touching_only;
+  touching_only.junction_extent_m = 0;
+  rp::compute_geometry_costs(b.graph, touching_only);
+  EXPECT_EQ(*b.graph.segments[19].curvature_level, 5);
+  EXPECT_EQ(*b.graph.segments[18].curvature_level, 0);
 }
 
 TEST(Junctions, NearestJunctionIsFoundThroughOtherPieces) {
@@ -366,6 +417,83 @@ TEST(CurvatureWindow, HandComputedExample) {
   EXPECT_EQ(cost(17), 3);
 }
 
+// ---- The curvature window through junctions. ----------------------------------------------
+
+/// Main road 1 -(200 m)- 2 -(200 m)- 3 along x and side road(s) at node 2, 10 m segments; the
+/// curvature levels are then set by hand: all 0 (weight 0.75), except level 4 (weight 20) on
+/// the segment 30..40 m beyond the junction on the through road (`bend_on_through`) or on the
+/// side road (else). Returns the curvature cost of segment 19 of the main road (190..200 m, the
+/// one touching the junction, midpoint 195 m), with the window through junctions on or off.
+int cost_before_junction(GraphBuilder& b, bool bend_on_through, bool through) {
+  rp::GeometryParameters p;
+  p.window_through_junctions = through ? 1 : 0;
+  rp::compute_geometry_costs(b.graph, p);
+  for (rp::Segment& s : b.graph.segments) s.curvature_level = 0;
+  const rp::RoadPiece& bent = b.graph.pieces[bend_on_through ? 1 : 2];
+  b.graph.segments[bent.first_segment + 3].curvature_level = 4;  // 30..40 m from node 2
+  const rp::Incidences nodes(b.graph);
+  for (const rp::Stroke& stroke : rp::build_strokes(b.graph))
+    rp::assign_curvature_costs(b.graph, stroke, p, through ? &nodes : nullptr);
+  return *b.graph.segments[19].curvature_cost;
+}
+
+// Segment 19's window is 95..295 m. Through the junction on the through road: itself 10 m x3
+// at 0.75, 180 m at 0.75 and the bend's 10 m at 20:
+//   (22.5 + 135 + 200) / (30 + 190) = 1.625 -> 1.
+// Ending at the junction (95..200 m): everything at 0.75 -> 0.
+
+TEST(CurvatureWindow, GoesOnThroughAnXJunctionAlongTheWay) {
+  // Way 100 runs 1 -> 2 -> 3 through the junction, way 200 crosses it 4 -> 2 -> 5 (an X).
+  const auto x_junction = [] {
+    GraphBuilder b;
+    b.add_piece(1, 2, straight({0, 0}, {200, 0}), "residential", 10.0, 100);
+    b.add_piece(2, 3, straight({200, 0}, {400, 0}), "residential", 10.0, 100);
+    b.add_piece(4, 2, straight({200, -100}, {200, 0}), "residential", 10.0, 200);
+    b.add_piece(2, 5, straight({200, 0}, {200, 100}), "residential", 10.0, 200);
+    return b;
+  };
+  GraphBuilder through = x_junction(), ends = x_junction();
+  EXPECT_EQ(cost_before_junction(through, true, true), 1);
+  EXPECT_EQ(cost_before_junction(ends, true, false), 0);
+  // The crossing way's bend 30..40 m up piece 4-2 (index 2 here: 30..40 m from node 4, i.e.
+  // 60..70 m from the junction) is never seen from the main road: 0 with the window through.
+  GraphBuilder side = x_junction();
+  EXPECT_EQ(cost_before_junction(side, false, true), 0);
+}
+
+TEST(CurvatureWindow, FollowsTheSameNameNeverTheSideRoad) {
+  // The main road changes way at the junction (ways 100 and 101, both "Hlavní"); the side road
+  // is way 300 "Boční". The window follows the name, not the side road.
+  const auto t_junction = [](const std::string& continued_name) {
+    GraphBuilder b;
+    b.add_piece(1, 2, straight({0, 0}, {200, 0}), "residential", 10.0, 100, "Hlavní");
+    b.add_piece(2, 3, straight({200, 0}, {400, 0}), "residential", 10.0, 101, continued_name);
+    b.add_piece(2, 4, straight({200, 0}, {200, 100}), "residential", 10.0, 300, "Boční");
+    return b;
+  };
+  GraphBuilder named = t_junction("Hlavní");
+  EXPECT_EQ(cost_before_junction(named, true, true), 1);
+  // A bend on the side road, 30..40 m from the junction: not in the main road's window (0).
+  GraphBuilder side = t_junction("Hlavní");
+  EXPECT_EQ(cost_before_junction(side, false, true), 0);
+  // Another name beyond the junction: the road ends there, as at a dead end (0).
+  GraphBuilder other = t_junction("Jiná");
+  EXPECT_EQ(cost_before_junction(other, true, true), 0);
+}
+
+TEST(CurvatureWindow, SideRoadEndingAtTheJunctionDoesNotEnterTheMainRoad) {
+  // The side road's segment at the junction (midpoint 5 m from it, window -95..105 clipped to
+  // its 100 m): with a bend on the main road 30..40 m beyond the junction it would see it if the
+  // window turned into the main road; it ends at the junction, so all 0.75 -> 0. Its level-5
+  // segments are set to 0 by hand as in cost_before_junction.
+  GraphBuilder b;
+  b.add_piece(1, 2, straight({0, 0}, {200, 0}), "residential", 10.0, 100, "Hlavní");
+  b.add_piece(2, 3, straight({200, 0}, {400, 0}), "residential", 10.0, 100, "Hlavní");
+  b.add_piece(2, 4, straight({200, 0}, {200, 100}), "residential", 10.0, 300, "Boční");
+  cost_before_junction(b, true, true);
+  EXPECT_EQ(*b.graph.segments[40].curvature_cost, 0);  // first of 2-4, touching the junction
+}
+
 TEST(Strokes, ChainThroughDegreeTwoAndStopAtJunctions) {
   // 1 -> 2 <- 3 (the second piece drawn backwards) joined at degree-2 node 2, then a junction at
   // 3 with two more roads. The first stroke runs 1..3 with the second piece reversed.
@@ -397,6 +525,59 @@ TEST(Strokes, IsolatedRoundaboutIsAClosedStroke) {
   rp::compute_geometry_costs(b.graph, {});
   // Every segment of a 20 m ring has the ring's radius (no open ends on a ring).
   for (const rp::Segment& s : b.graph.segments) EXPECT_NEAR(*s.radius_m, 20.0, 2.0);
+}
+
+// ---- The elevation cost: the method's scale and window. -------------------------------------
+
+TEST(ElevationCost, MethodScaleIsTheFlooredMeanCappedAtNine) {
+  // min(9, floor(M)) of the window's mean landform cost M. The former floor(M * 9 / 15) gave
+  // 2, 4, 5, 6 and 9 here: a ridge (8) scored 4 and a midslope ridge (10) 6.
+  EXPECT_EQ(rp::elevation_cost_of(4.0), 4);
+  EXPECT_EQ(rp::elevation_cost_of(8.0), 8);
+  EXPECT_EQ(rp::elevation_cost_of(9.0), 9);
+  EXPECT_EQ(rp::elevation_cost_of(10.0), 9);
+  EXPECT_EQ(rp::elevation_cost_of(15.0), 9);
+  // Floored, not rounded; an exact mean summed in floating point is not floored one lower.
+  EXPECT_EQ(rp::elevation_cost_of(8.99), 8);
+  EXPECT_EQ(rp::elevation_cost_of(0.1 + 0.2 + 7.7), 8);
+  EXPECT_EQ(rp::elevation_cost_of(0.0), 0);
+}
+
+/// Every segment on flat ground with zero TPI (plains, landform cost 1), except those in
+/// `tops`: standardised TPI +3 at both scales (mountain top, cost 15).
+void set_landforms(rp::RoadGraph& graph, const std::vector<std::size_t>& tops) {
+  for (std::size_t i = 0; i < graph.segments.size(); ++i) {
+    rp::Segment& s = graph.segments[i];
+    const bool top = std::find(tops.begin(), tops.end(), i) != tops.end();
+    s.elevation_m = 100.0f;
+    s.slope_deg = 0.0f;
+    s.tpi_small_m = top ? 3.0f : 0.0f;
+    s.tpi_large_m = top ? 3.0f : 0.0f;
+  }
+}
+
+TEST(ElevationCost, EvaluatedSegmentIsNotCountedInItsWindow) {
+  // A 400 m road of 10 m segments; segments 20..24 (200..250 m) on a mountain top. Segment 22
+  // (midpoint 225 m), window 125..325 m without itself: 40 m of mountain top (15) and 150 m of
+  // plains (1): (600 + 150) / 190 = 3.95 -> 3. Counted 3 times, as before, it would be
+  // (450 + 600 + 150) / 220 = 5.45 -> 5.
+  GraphBuilder b;
+  b.add_piece(1, 2, straight({0, 0}, {400, 0}));
+  set_landforms(b.graph, {20, 21, 22, 23, 24});
+  rp::TpiStandardisation unit;  // mean 0, SD 1: the TPI values are the standardised ones
+  rp::assign_terrain(b.graph, std::vector<rp::StructureEnds>{}, unit, rp::TerrainParameters{});
+  EXPECT_STREQ(b.graph.segments[22].landform.text(), "mountain_top");
+  EXPECT_EQ(*b.graph.segments[22].elevation_cost, 3);
+  // Segment 0 (window 0..105 m without itself): 95 m of plains -> 1.
+  EXPECT_EQ(*b.graph.segments[0].elevation_cost, 1);
+
+  // A road of one segment has nothing else in its window: its own landform is used.
+  GraphBuilder lone;
+  lone.add_piece(1, 2, straight({0, 0}, {8, 0}));
+  set_landforms(lone.graph, {0});
+  rp::assign_terrain(lone.graph, std::vector<rp::StructureEnds>{}, unit, rp::TerrainParameters{});
+  EXPECT_EQ(*lone.graph.segments[0].elevation_cost, 9);  // min(9, 15)
+  EXPECT_FALSE(lone.graph.segments[0].reasons.contains("NO_ELEVATION"));
 }
 
 // ---- Class, tunnel, rank. --------------------------------------------------------------------

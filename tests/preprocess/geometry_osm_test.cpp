@@ -10,11 +10,11 @@
 
 #include "osm_fixture.hpp"
 #include "roadcross/geo.hpp"
-#include "roadcross/preprocess/geometry/geometry_cost.hpp"
 #include "roadcross/preprocess/common/progress.hpp"
-#include "roadcross/preprocess/rank.hpp"
-#include "roadcross/preprocess/osm/road_network.hpp"
+#include "roadcross/preprocess/geometry/geometry_cost.hpp"
 #include "roadcross/preprocess/graph/segments.hpp"
+#include "roadcross/preprocess/osm/road_network.hpp"
+#include "roadcross/preprocess/rank.hpp"
 
 namespace rp = roadcross::preprocess;
 namespace rt = roadcross::testing;
@@ -186,13 +186,14 @@ TEST(OsmJunctions, TJunctionWhereAWayEndsOnTheInteriorOfAnother) {
     EXPECT_NEAR(*side[i]->junction_distance_m, expected_side[i], 0.02) << i;
     EXPECT_EQ(has_reason(*side[i], "NEAR_JUNCTION"), expected_side[i] < 15) << i;
   }
-  // The segments with an end at the junction are curvature level 5; the others are straight.
-  EXPECT_EQ(*main[6]->curvature_level, 5);
-  EXPECT_EQ(*main[7]->curvature_level, 5);
-  EXPECT_EQ(*side[0]->curvature_level, 5);
-  EXPECT_EQ(*main[5]->curvature_level, 0);
-  EXPECT_EQ(*main[0]->curvature_level, 0);
-  EXPECT_EQ(*side[4]->curvature_level, 0);
+  // Level 5 where a segment's nearer end is < 20 m (geometry.junction_extent_m) from the
+  // junction: on 1-2 the nearer ends are 0, 9.14, 18.29, 27.43, ... m away (main[6], [5], [4]
+  // level 5, main[3] not); on 2-3 0, 9, 18, 27 (main[7..9], not main[10]); on 2-4 0, 8.8,
+  // 17.6, 26.4 (side[0..2], not side[3]). The others are straight.
+  for (const std::size_t i : {4, 5, 6, 7, 8, 9}) EXPECT_EQ(*main[i]->curvature_level, 5) << i;
+  for (const std::size_t i : {0, 1, 2, 3, 10}) EXPECT_EQ(*main[i]->curvature_level, 0) << i;
+  for (const std::size_t i : {0, 1, 2}) EXPECT_EQ(*side[i]->curvature_level, 5) << i;
+  for (const std::size_t i : {3, 4}) EXPECT_EQ(*side[i]->curvature_level, 0) << i;
 }
 
 TEST(OsmJunctions, XJunctionAndLookAlikesThatAreNotJunctions) {
@@ -242,14 +243,16 @@ TEST(OsmJunctions, TheWindowDoesNotWanderIntoTheSideRoad) {
   // A straight main road (way 2) 1 (0,0) - 2 (145,0) - 3 (290,0) with a side road (way 1, listed
   // first so that a walk from it reaches the junction first) from node 2. Once the side road is
   // straight, once it is a tight 20 m hairpin starting right at the junction. The main road's
-  // windows end at the junction and never follow the side road, so its costs are the same and
-  // are those of a 145 m road with one level-5 segment at its end. By hand, each half has 15
-  // segments of 145/15 = 9.667 m, weights 0.75 and 30 (the segment at the junction):
-  //   segment 0..3: windows do not reach the junction segment: 0.75 -> 0;
-  //   segment 4, window [0, 143.5] holds 8.17 m of the junction segment:
-  //     (3 * 9.667 * 0.75 + 125.67 * 0.75 + 8.17 * 30) / (3 * 9.667 + 133.83) = 2.22 -> 2;
-  //   segments 5..13: 2.47 .. 2.86 -> 2;
-  //   segment 14, window [40.17, 145]: (3 * 9.667 * 30 + 95.17 * 0.75) / (29 + 95.17) = 7.58 -> 7.
+  // window goes on through the junction along way 2 but never follows the side road, so its
+  // costs are the same with either side road, and symmetric about the junction. By hand, each
+  // half has 15 segments of 145/15 = 9.667 m; level 5 (weight 30) on the three of each half
+  // whose nearer end is < 20 m from the junction (0, 9.667, 19.33 m): [116, 174] m; the rest
+  // 0.75.
+  //   segment 0, window [0, 104.83] (a dead end before it): all 0.75 -> 0;
+  //   segment 14 ([135.33, 145]), window [40.17, 240.17] through the junction: itself
+  //     3 * 9.667 at 30 = 870; [40.17, 135.33]: 19.33 m at 30 + 75.83 m at 0.75 = 636.9;
+  //     [145, 240.17]: 29 m at 30 + 66.17 m at 0.75 = 919.6; (870 + 636.9 + 919.6) / (29 +
+  //     95.17 + 95.17) = 11.06 -> 11.
   const std::string main = node_at(1, 0, 0) + node_at(2, 145, 0) + node_at(3, 290, 0) +
                            rt::osm_way(2, "1 2 3", "highway=secondary");
   std::string straight_side = node_at(50, 145, 60) + rt::osm_way(1, "2 50", "highway=residential");
@@ -266,14 +269,15 @@ TEST(OsmJunctions, TheWindowDoesNotWanderIntoTheSideRoad) {
   const auto main_a = segments_of(a, 2), main_b = segments_of(b, 2);
   ASSERT_EQ(main_a.size(), 30u);
   ASSERT_EQ(main_b.size(), 30u);
-  const int half[] = {0, 0, 0, 0, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 7};
   for (std::size_t i = 0; i < main_a.size(); ++i) {
-    const int expected = half[i < 15 ? i : 29 - i];
     EXPECT_EQ(*main_a[i]->radius_m, 10000.0) << i;
     EXPECT_EQ(*main_b[i]->radius_m, 10000.0) << i;
-    EXPECT_EQ(*main_a[i]->curvature_cost, expected) << i;
-    EXPECT_EQ(*main_b[i]->curvature_cost, expected) << i;
+    EXPECT_EQ(*main_a[i]->curvature_cost, *main_b[i]->curvature_cost) << i;
+    EXPECT_EQ(*main_a[i]->curvature_cost, *main_a[29 - i]->curvature_cost) << i;
   }
+  EXPECT_EQ(*main_a[0]->curvature_cost, 0);
+  EXPECT_EQ(*main_a[14]->curvature_cost, 11);
+  EXPECT_EQ(*main_a[15]->curvature_cost, 11);
   // The hairpin itself is a sharp bend.
   int sharp = 0;
   for (const rp::Segment* s : segments_of(b, 1)) sharp += has_reason(*s, "SHARP_BEND") ? 1 : 0;

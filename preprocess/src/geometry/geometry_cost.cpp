@@ -4,13 +4,14 @@
 #include <cmath>
 #include <iterator>
 #include <limits>
+#include <optional>
 #include <queue>
 #include <string>
 #include <unordered_map>
 #include <utility>
 
-#include "roadcross/preprocess/geometry/curvature.hpp"
 #include "roadcross/preprocess/common/errors.hpp"
+#include "roadcross/preprocess/geometry/curvature.hpp"
 #include "roadcross/preprocess/graph/strokes.hpp"
 
 namespace roadcross::preprocess {
@@ -29,6 +30,9 @@ void GeometryParameters::describe(std::vector<ParameterSpec>& out) {
                  "class cost of unclassified roads"});
   out.push_back({s, "near_junction_m", &near_junction_m, 0, 1000, false,
                  "NEAR_JUNCTION when the junction along the road is closer, metres"});
+  out.push_back({s, "junction_extent_m", &junction_extent_m, 0, 1000, false,
+                 "curvature level 5 on every segment that comes closer to a junction along the "
+                 "road, metres (the method's first piece next to a junction: <= 20)"});
   out.push_back({s, "resample_spacing_m", &resample_spacing_m, 1, 1000, false,
                  "largest spacing of curvature samples along the road, metres (thesis 20)"});
   out.push_back({s, "curvature_baseline_m", &curvature_baseline_m, 0.5, 200, false,
@@ -54,6 +58,9 @@ void GeometryParameters::describe(std::vector<ParameterSpec>& out) {
                  "curvature window: this far along the road each way, metres"});
   out.push_back({s, "own_segment_weight", &own_segment_weight, 0, 1000, false,
                  "the segment itself counts this many times in its window"});
+  out.push_back({s, "window_through_junctions", &window_through_junctions, 0, 1, true,
+                 "1: the curvature window goes on through a junction along the road (same way, "
+                 "else same name or ref), never into a side road; 0: it ends at every junction"});
   out.push_back({s, "sharp_bend_radius_m", &sharp_bend_radius_m, 0, 1e5, false,
                  "SHARP_BEND below this radius, metres"});
 }
@@ -102,11 +109,6 @@ int curvature_level(double radius_m, bool at_junction, const GeometryParameters&
 
 namespace {
 
-bool is_junction(const RoadGraph& graph, std::int64_t node) {
-  const auto it = graph.degree.find(node);
-  return it != graph.degree.end() && it->second >= 3;
-}
-
 /// Shortest distance along the road from every graph node to a junction (multi-source
 /// Dijkstra over the pieces), by the node's position in `nodes`; infinity where none is
 /// reachable.
@@ -138,23 +140,35 @@ std::vector<double> distance_to_junction(const RoadGraph& graph, const Incidence
   return distance;
 }
 
-void assign_junction_distances(RoadGraph& graph, const GeometryParameters& p) {
-  const Incidences nodes(graph);
+/// Sets junction_distance_m and NEAR_JUNCTION; returns, per segment, 1 where the segment comes
+/// closer than junction_extent_m to a junction along the road (or touches one): its curvature
+/// level is 5.
+std::vector<std::uint8_t> assign_junction_distances(RoadGraph& graph, const Incidences& nodes,
+                                                    const GeometryParameters& p) {
   const std::vector<double> distance = distance_to_junction(graph, nodes);
   const auto at = [&](std::int64_t node) { return distance[nodes.index_of(node)]; };
+  std::vector<std::uint8_t> within_extent(graph.segments.size(), 0);
   for (const RoadPiece& piece : graph.pieces) {
     const double from_end = at(piece.from_node_id), to_end = at(piece.to_node_id);
     for (std::size_t k = 0; k < piece.segment_count; ++k) {
       Segment& s = graph.segments[piece.first_segment + k];
+      const double start = graph.offset_in_piece_m(s), length = graph.length_m(s);
       // Measured from the segment's midpoint: where a robot crossing "at this segment" stands.
-      const double mid = graph.offset_in_piece_m(s) + 0.5 * graph.length_m(s);
+      const double mid = start + 0.5 * length;
       const double d = std::min(mid + from_end, piece.length_m - mid + to_end);
       if (std::isfinite(d)) {
         s.junction_distance_m = d;
         if (d < p.near_junction_m) s.reasons.add("NEAR_JUNCTION");
       }
+      // The level, though, from the segment's nearer end: the junction's stretch of road is
+      // level 5 over the same length whatever the segment length.
+      const double nearer_end =
+          std::min(start + from_end, piece.length_m - (start + length) + to_end);
+      within_extent[piece.first_segment + k] =
+          nearer_end <= 0.0 || nearer_end < p.junction_extent_m ? 1 : 0;
     }
   }
+  return within_extent;
 }
 
 /// Radius at the curvature points nearest to stroke position `at`: the radius of the nearest
@@ -168,7 +182,9 @@ double radius_near(const std::vector<double>& positions, const std::vector<doubl
   return (at - positions[j - 1] <= positions[j] - at) ? radii[j - 1] : radii[j];
 }
 
-void assign_radii(RoadGraph& graph, const Stroke& stroke, const GeometryParameters& p) {
+void assign_radii(RoadGraph& graph, const Stroke& stroke,
+                  const std::vector<std::uint8_t>& within_junction_extent,
+                  const GeometryParameters& p) {
   // The OSM vertices carry the curvature; the points inserted every <= resample_spacing_m are
   // straight and only keep a bend's radius from spreading along a long edge.
   const RadiusProfile profile = radius_profile(
@@ -187,27 +203,156 @@ void assign_radii(RoadGraph& graph, const Stroke& stroke, const GeometryParamete
     }
     Segment& s = graph.segments[ss.segment];
     s.radius_m = radius;
-    s.curvature_level = curvature_level(
-        radius,
-        is_junction(graph, graph.from_node_id(s)) || is_junction(graph, graph.to_node_id(s)), p);
+    s.curvature_level = curvature_level(radius, within_junction_extent[ss.segment] != 0, p);
     if (radius < p.sharp_bend_radius_m) s.reasons.add("SHARP_BEND");
   }
 }
 
+/// Direction (radians) of walking along `piece` away from the node at its from-end
+/// (`from_to_end` false) or its to-end (true), from the piece's first edge there.
+double departure_direction_rad(const RoadPiece& piece, bool from_to_end) {
+  const std::vector<PlanePoint>& pts = piece.points;
+  const PlanePoint a = from_to_end ? pts[pts.size() - 1] : pts[0];
+  const PlanePoint b = from_to_end ? pts[pts.size() - 2] : pts[1];
+  return std::atan2(b.y - a.y, b.x - a.x);
+}
+
+/// |turn| from walking direction `heading_rad` onto direction `onto_rad`, radians 0..pi.
+double turn_rad(double heading_rad, double onto_rad) {
+  const double d = std::remainder(onto_rad - heading_rad, 2.0 * std::acos(-1.0));
+  return std::abs(d);
+}
+
+/// The piece end at graph node `node` the road goes on by, after arriving there along `arrived`
+/// (the piece end at `node` the walk came in by), or none: the same way if it passes through
+/// (the straightest such end if several), else the straightest end of a piece of the same name
+/// or ref. A side road is never taken; a road that ends at the junction ends there.
+std::optional<Incidence> road_goes_on(const RoadGraph& graph, const Incidences& nodes,
+                                      std::int64_t node, Incidence arrived) {
+  const std::span<const Incidence> ends = nodes.at(node);
+  if (ends.size() < 3) return std::nullopt;  // a dead end (a degree-2 node is no stroke end)
+  const RoadPiece& in = graph.pieces[arrived.piece];
+  // Walking direction on arrival: the reverse of leaving the node along the arrival piece.
+  const double heading = departure_direction_rad(in, arrived.at_end) + std::acos(-1.0);
+  const auto best_of = [&](auto&& same_road) -> std::optional<Incidence> {
+    std::optional<Incidence> best;
+    double best_turn = 0.0;
+    for (const Incidence& end : ends) {
+      if (end.piece == arrived.piece && end.at_end == arrived.at_end) continue;
+      if (!same_road(graph.pieces[end.piece])) continue;
+      const double t =
+          turn_rad(heading, departure_direction_rad(graph.pieces[end.piece], end.at_end));
+      if (!best || t < best_turn) {
+        best = end;
+        best_turn = t;
+      }
+    }
+    return best;
+  };
+  if (auto same_way = best_of([&](const RoadPiece& q) { return q.osm_way_id == in.osm_way_id; }))
+    return same_way;
+  return best_of([&](const RoadPiece& q) {
+    return (!in.name.empty() && q.name == in.name.view()) ||
+           (!in.ref.empty() && q.ref == in.ref.view());
+  });
+}
+
+/// The segments of the road beyond one end of `stroke`, within `reach_m` of it, following the
+/// road through junctions (road_goes_on) and degree-2 joints. Positions are the distance from
+/// the stroke's end, [start, end) increasing away from it. Pieces in `used` are not entered
+/// again (the stroke's own, and those already walked: a ring is not counted twice).
+std::vector<StrokeSegment> road_beyond(const RoadGraph& graph, const Incidences& nodes,
+                                       std::int64_t node, Incidence arrived, double reach_m,
+                                       std::vector<std::size_t>& used) {
+  std::vector<StrokeSegment> out;
+  double walked_m = 0.0;
+  while (walked_m < reach_m) {
+    std::optional<Incidence> next;
+    const std::span<const Incidence> ends = nodes.at(node);
+    if (ends.size() == 2) {
+      next =
+          (ends[0].piece == arrived.piece && ends[0].at_end == arrived.at_end) ? ends[1] : ends[0];
+    } else {
+      next = road_goes_on(graph, nodes, node, arrived);
+    }
+    if (!next || std::find(used.begin(), used.end(), next->piece) != used.end()) break;
+    used.push_back(next->piece);
+    const RoadPiece& piece = graph.pieces[next->piece];
+    const bool reversed = next->at_end;  // leaving from its to-node: walking it backwards
+    for (std::size_t k = 0; k < piece.segment_count; ++k) {
+      const std::size_t index = piece.first_segment + (reversed ? piece.segment_count - 1 - k : k);
+      const double length = graph.length_m(graph.segments[index]);
+      out.push_back({index, reversed, walked_m, walked_m + length});
+      walked_m += length;
+      if (walked_m >= reach_m) break;
+    }
+    node = reversed ? piece.from_node_id : piece.to_node_id;
+    arrived = {next->piece, !reversed};
+  }
+  return out;
+}
+
+/// `stroke` with the road beyond both its ends (road_beyond, up to `reach_m`) added as segments
+/// before and after it; `own_first` is set to the index of the stroke's first segment in it.
+Stroke extend_along_road(const RoadGraph& graph, const Incidences& nodes, const Stroke& stroke,
+                         double reach_m, std::size_t& own_first) {
+  own_first = 0;
+  if (stroke.closed || stroke.segments.empty()) return stroke;
+  std::vector<std::size_t> used;
+  for (const StrokeSegment& ss : stroke.segments) {
+    const std::size_t piece = graph.segments[ss.segment].piece_index;
+    if (used.empty() || used.back() != piece) used.push_back(piece);
+  }
+  // The stroke's first segment starts at its piece's from-node unless walked reversed.
+  const StrokeSegment& first = stroke.segments.front();
+  const Segment& first_segment = graph.segments[first.segment];
+  const std::int64_t start_node =
+      first.reversed ? graph.to_node_id(first_segment) : graph.from_node_id(first_segment);
+  const std::vector<StrokeSegment> before = road_beyond(
+      graph, nodes, start_node, {first_segment.piece_index, first.reversed}, reach_m, used);
+  const StrokeSegment& last = stroke.segments.back();
+  const Segment& last_segment = graph.segments[last.segment];
+  const std::int64_t end_node =
+      last.reversed ? graph.from_node_id(last_segment) : graph.to_node_id(last_segment);
+  const std::vector<StrokeSegment> after = road_beyond(
+      graph, nodes, end_node, {last_segment.piece_index, !last.reversed}, reach_m, used);
+
+  Stroke extended;
+  extended.length_m = stroke.length_m;
+  extended.segments.reserve(before.size() + stroke.segments.size() + after.size());
+  for (auto it = before.rbegin(); it != before.rend(); ++it) {
+    extended.segments.push_back({it->segment, it->reversed, -it->end_m, -it->start_m});
+  }
+  own_first = extended.segments.size();
+  extended.segments.insert(extended.segments.end(), stroke.segments.begin(), stroke.segments.end());
+  for (const StrokeSegment& ss : after) {
+    extended.segments.push_back(
+        {ss.segment, ss.reversed, stroke.length_m + ss.start_m, stroke.length_m + ss.end_m});
+  }
+  return extended;
+}
+
 }  // namespace
 
-void assign_curvature_costs(RoadGraph& graph, const Stroke& stroke, const GeometryParameters& p) {
+void assign_curvature_costs(RoadGraph& graph, const Stroke& stroke, const GeometryParameters& p,
+                            const Incidences* through_junctions) {
+  std::size_t own_first = 0;
+  const Stroke window_road =
+      through_junctions
+          ? extend_along_road(graph, *through_junctions, stroke, p.window_half_length_m, own_first)
+          : stroke;
   std::vector<double> weights;
-  weights.reserve(stroke.segments.size());
-  for (const StrokeSegment& s : stroke.segments) {
+  weights.reserve(window_road.segments.size());
+  for (const StrokeSegment& s : window_road.segments) {
     const int level = *graph.segments[s.segment].curvature_level;
     weights.push_back(p.level_weight[static_cast<std::size_t>(level)]);
   }
   const std::vector<double> mean =
-      windowed_mean(stroke, weights, p.window_half_length_m, p.own_segment_weight);
+      windowed_mean(window_road, weights, p.window_half_length_m, p.own_segment_weight);
   for (std::size_t i = 0; i < stroke.segments.size(); ++i) {
     // The epsilon keeps an exact quotient (3.0 from uniform weights) from flooring to 2.
-    const double cost = std::isnan(mean[i]) ? 0.0 : std::floor(mean[i] + 1e-9);
+    const double m = mean[own_first + i];
+    const double cost = std::isnan(m) ? 0.0 : std::floor(m + 1e-9);
     graph.segments[stroke.segments[i].segment].curvature_cost =
         static_cast<int>(std::clamp(cost, 0.0, 14.0));
   }
@@ -221,11 +366,15 @@ void compute_geometry_costs(RoadGraph& graph, const GeometryParameters& p) {
     if (base == "motorway" || base == "trunk") s.reasons.add("NOT_CROSSABLE_CLASS");
     if (s.tunnel) s.reasons.add("TUNNEL");
   }
-  assign_junction_distances(graph, p);
-  for_each_stroke(graph, [&](const Stroke& stroke) {
-    assign_radii(graph, stroke, p);
-    assign_curvature_costs(graph, stroke, p);
-  });
+  const Incidences nodes(graph);
+  const std::vector<std::uint8_t> within_junction_extent =
+      assign_junction_distances(graph, nodes, p);
+  // Every level first: a window reaches beyond its stroke into the road that goes on.
+  for_each_stroke(
+      graph, [&](const Stroke& stroke) { assign_radii(graph, stroke, within_junction_extent, p); });
+  const Incidences* through = p.window_through_junctions != 0.0 ? &nodes : nullptr;
+  for_each_stroke(graph,
+                  [&](const Stroke& stroke) { assign_curvature_costs(graph, stroke, p, through); });
 }
 
 }  // namespace roadcross::preprocess

@@ -151,6 +151,8 @@ void cut_piece(RoadGraph& graph, std::size_t piece_index, const RoadWay& way, do
   piece.highway = graph.text.intern_text(way.highway);
   const std::string_view name_tag = tag_value(way.tags, "name");
   piece.name = name_tag.empty() ? InternedText() : graph.text.intern_text(name_tag);
+  const std::string_view ref_tag = tag_value(way.tags, "ref");
+  piece.ref = ref_tag.empty() ? InternedText() : graph.text.intern_text(ref_tag);
   const bool oneway = way_is_oneway(way.tags);
   const bool tunnel = way_is_tunnel(way.tags);
   const bool bridge = is_yes(tag_value(way.tags, "bridge"));

@@ -100,7 +100,8 @@ void TerrainParameters::describe(std::vector<ParameterSpec>& out) {
   out.push_back({s, "window_half_length_m", &window_half_length_m, 0, 10000, false,
                  "elevation cost window: this far along the road each way, metres"});
   out.push_back({s, "own_segment_weight", &own_segment_weight, 0, 1000, false,
-                 "the segment itself counts this many times in its window"});
+                 "the segment itself counts this many times in its window (method: 0, not "
+                 "counted; it alone when nothing else is in the window)"});
   for (std::size_t i = 0; i < kLandformCount; ++i) {
     out.push_back({s, "cost_" + std::string(kLandformNames[i]), &landform_cost[i], 0, 15, false,
                    "landform cost of " + std::string(kLandformNames[i]) + " (0..15)"});
@@ -628,6 +629,14 @@ void assign_terrain(RoadGraph& graph, const std::vector<TerrainSample>& samples,
   assign_terrain(graph, structure_ends, z, p);
 }
 
+int elevation_cost_of(double mean_landform_cost) noexcept {
+  // The method's scale: the window's mean landform cost (0..15) floored and capped at 9, so a
+  // ridge (8) costs 7..8 and a midslope ridge (10) or a mountain top (15) the full 9. The
+  // epsilon keeps an exact mean (8.0 from uniform costs) from flooring to 7.
+  const double cost = std::floor(mean_landform_cost + 1e-9);
+  return static_cast<int>(std::clamp(cost, 0.0, 9.0));
+}
+
 void assign_terrain(RoadGraph& graph, const std::vector<StructureEnds>& structure_ends,
                     const TpiStandardisation& z, const TerrainParameters& p) {
   // The landform at each segment for the windows' costs (kNoLandform: unknown or a structure;
@@ -672,15 +681,16 @@ void assign_terrain(RoadGraph& graph, const std::vector<StructureEnds>& structur
     for (std::size_t k = 0; k < stroke.segments.size(); ++k) {
       Segment& s = graph.segments[stroke.segments[k].segment];
       if (!s.elevation_m) continue;
-      if (std::isnan(mean[k])) {
+      // A window with no other ground than the segment itself (a short isolated road): the
+      // segment's own landform is all there is to judge it by.
+      const double m = std::isnan(mean[k]) ? costs[k] : mean[k];
+      if (std::isnan(m)) {
         // A structure with no ground in its window: its profile is a straight line between
         // its ends, which hides nothing (the cost of plains would floor to 0 as well).
         if (s.bridge || s.tunnel) s.elevation_cost = 0;
         continue;
       }
-      // Landform costs run 0..15; the elevation cost 0..9 as in the thesis' rank formula.
-      const double cost = std::floor(mean[k] * 9.0 / 15.0 + 1e-9);
-      s.elevation_cost = static_cast<int>(std::clamp(cost, 0.0, 9.0));
+      s.elevation_cost = elevation_cost_of(m);
     }
   });
   for (Segment& s : graph.segments) {

@@ -173,9 +173,12 @@ struct BetterPlaceOptions {
 
 /// A place to cross instead, reached by walking along the road on the robot's side.
 struct Candidate {
-  PlanePoint point;  ///< where to stand: same side, same offset from the centreline
+  /// Where to stand: the robot's side, at its offset from the centreline (at least 1 m, at most
+  /// the valid distance).
+  PlanePoint point;
   double walking_distance_m = 0.0;
   std::int64_t segment_id = 0;
+  /// assess's verdict at `point` (the same rule: schema::judge_segment).
   bool suitable = false;
   int score = 0;                      ///< score + context_score
   bool designated_crossing = false;   ///< a designated crossing within 5 m of the place

@@ -20,6 +20,10 @@ struct GeometryParameters {
   double class_cost_minor = 2, class_cost_unclassified = 1;
   /// A segment whose midpoint is closer than this to a junction along the road, metres.
   double near_junction_m = 15.0;
+  /// Curvature level 5 on every segment any part of which is closer than this to a junction
+  /// along the road, metres: the same stretch of road whatever the segment length (the method
+  /// marked its first resampled piece, <= 20 m, next to a junction).
+  double junction_extent_m = 20.0;
   /// Curvature samples: the OSM vertices plus straight points inserted so that no two samples
   /// are further apart, metres (thesis: 20 m).
   double resample_spacing_m = 20.0;
@@ -36,6 +40,10 @@ struct GeometryParameters {
   /// Half length of the window along the road, metres, and the weight of the own segment.
   double window_half_length_m = 100.0;
   double own_segment_weight = 3.0;
+  /// 1: the window goes on through a junction along the road that goes on (the same way, else
+  /// the straightest piece of the same name or ref), never into a side road; 0: it ends at
+  /// every junction.
+  double window_through_junctions = 1.0;
   /// SHARP_BEND below this radius, metres (the limit of curvature level 3).
   double sharp_bend_radius_m = 90.0;
 
@@ -49,18 +57,23 @@ struct GeometryParameters {
 /// suitable anyway). Returns 0 for a class that is not a kept road.
 int class_cost(std::string_view highway, const GeometryParameters& parameters) noexcept;
 
-/// Curvature level 0..5 of a segment from its radius and whether an end is at a junction.
+/// Curvature level 0..5 of a segment from its radius and whether it lies within
+/// junction_extent_m of a junction along the road.
 int curvature_level(double radius_m, bool at_junction,
                     const GeometryParameters& parameters) noexcept;
 
 struct Stroke;
 
 /// The windowed curvature cost of every segment of `stroke` from the curvature levels already
-/// set on the segments: sum(length * weight) / sum(length) over the road within
-/// +-window_half_length_m of the segment's midpoint along the stroke (the segment itself counted
-/// own_segment_weight times), floored and clamped to 0..14.
+/// set on the segments (of the whole graph): sum(length * weight) / sum(length) over the road
+/// within +-window_half_length_m of the segment's midpoint (the segment itself counted
+/// own_segment_weight times), floored and clamped to 0..14. With `through_junctions` (the
+/// graph's incidences) the road goes on past the stroke's junction ends: along the same way,
+/// else the straightest piece of the same name or ref, never into a side road; dead ends and
+/// roads that end at a junction end the window. Without, the window ends with the stroke.
 void assign_curvature_costs(RoadGraph& graph, const Stroke& stroke,
-                            const GeometryParameters& parameters);
+                            const GeometryParameters& parameters,
+                            const Incidences* through_junctions = nullptr);
 
 /// Fills class_cost, junction_distance_m, radius_m, curvature_level and curvature_cost of every
 /// segment and appends NOT_CROSSABLE_CLASS, TUNNEL, NEAR_JUNCTION and SHARP_BEND.

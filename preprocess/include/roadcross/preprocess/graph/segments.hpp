@@ -163,8 +163,11 @@ struct RoadPiece {
   std::int64_t to_node_id = 0;
   // The way's columns, kept per piece (~1 piece for 13 segments) rather than per segment.
   std::int64_t osm_way_id = 0;
-  InternedText highway;      ///< highway=* value, interned in RoadGraph::text
-  InternedText name;         ///< the way's name, interned in RoadGraph::text (empty: none)
+  InternedText highway;  ///< highway=* value, interned in RoadGraph::text
+  InternedText name;     ///< the way's name, interned in RoadGraph::text (empty: none)
+  /// The way's ref (road number), interned in RoadGraph::text (empty: none): the curvature
+  /// window follows a road through junctions by way, name or ref.
+  InternedText ref;
   MaybeSmallInt class_cost;  ///< 0..10: from the highway (set by the geometry stage)
   // The way's context (set by the context stage; read through RoadGraph for a segment).
   MaybeFloat maxspeed_kmh;  ///< km/h, tagged or the country's implicit limit

@@ -75,11 +75,13 @@ struct TerrainParameters {
   double xyz_memory_mib = 1024.0;
   /// DEM voids are filled from valid cells at most this far away, metres.
   double void_fill_max_m = 100.0;
-  /// Elevation cost window along the road (as curvature), metres, and own-segment weight.
+  /// Elevation cost window along the road (as curvature), metres, and the weight of the
+  /// evaluated segment in it (the method: 0, not counted; the segment alone is used only when
+  /// its window holds nothing else).
   double window_half_length_m = 100.0;
-  double own_segment_weight = 3.0;
-  /// Cost of each landform class (the thesis, docs/cost-model.md), in Landform order; scaled to
-  /// 0..9 by 9/15.
+  double own_segment_weight = 0.0;
+  /// Cost of each landform class (the thesis, docs/cost-model.md), in Landform order (0..15;
+  /// elevation_cost_of maps the window's mean to 0..9).
   std::array<double, kLandformCount> landform_cost = {8, 5, 6, 2, 1, 3, 6, 8, 10, 15};
 
   void describe(std::vector<ParameterSpec>& out);
@@ -242,6 +244,10 @@ struct StructureEnds {
 /// elevation where the midpoint has none.
 /// `length_m`: the segment's length (RoadGraph::length_m), metres, for the grade.
 void store_terrain_sample(Segment& segment, double length_m, const TerrainSample& sample);
+
+/// The elevation cost (0..9) of a window whose mean landform cost is `mean_landform_cost`
+/// (0..15): min(9, floor(mean)), the method's scale.
+int elevation_cost_of(double mean_landform_cost) noexcept;
 
 /// From the fields store_terrain_sample wrote and the structure segments' ends (sorted by
 /// segment): landform, CREST_OR_DIP, bridges and tunnels from their ends, the windowed
