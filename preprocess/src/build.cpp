@@ -28,6 +28,7 @@
 #include "roadcross/preprocess/sight/sight.hpp"
 #include "roadcross/preprocess/terrain/terrain.hpp"
 #include "roadcross/preprocess/output/terrain_coverage.hpp"
+#include "roadcross/mapcheck/content_hash.hpp"
 #include "roadcross/schema/schema.hpp"
 
 namespace roadcross::preprocess {
@@ -50,6 +51,16 @@ std::string iso8601_utc(std::int64_t seconds_since_epoch) {
   gmtime_r(&t, &utc);
   char text[32];
   std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%S.000Z", &utc);
+  return text;
+}
+
+/// "2026-03-01T12:00:00Z": ISO 8601 UTC to the second (OSM timestamps have no fraction).
+std::string iso8601_utc_seconds(std::int64_t seconds_since_epoch) {
+  const std::time_t t = static_cast<std::time_t>(seconds_since_epoch);
+  std::tm utc{};
+  gmtime_r(&t, &utc);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &utc);
   return text;
 }
 
@@ -174,6 +185,12 @@ BuildSummary run_build(const BuildOptions& options) {
   progress.finish_stage(std::to_string(graph.segments.size()) + " segments in UTM zone " +
                         std::to_string(zone.zone) + (zone.northern ? "N" : "S"));
   const std::string last_change = iso8601_utc(network.newest_timestamp_s);
+  // An OSM file without timestamps (osmium's --omit-timestamp, many extracts' nodes) reads as 0:
+  // no timestamp then, rather than 1970.
+  const std::optional<std::string> osm_timestamp =
+      network.newest_timestamp_s > 0
+          ? std::optional<std::string>(iso8601_utc_seconds(network.newest_timestamp_s))
+          : std::nullopt;
 
   // The context stage's tag and crossing part reads only what segmenting set, so it runs first:
   // the ways, their tags and the node locations are then freed before the cost stages and the
@@ -258,6 +275,7 @@ BuildSummary run_build(const BuildOptions& options) {
   contents.metadata.emplace_back(schema::meta::kToolVersion, options.tool_version);
   contents.metadata.emplace_back(schema::meta::kAttribution,
                                  "Map data (c) OpenStreetMap contributors, ODbL 1.0");
+  if (osm_timestamp) contents.metadata.emplace_back(schema::meta::kOsmTimestamp, *osm_timestamp);
   // Inputs are recorded by file name and hash, not by absolute path, so that the same inputs
   // give the same bytes wherever they are built.
   const std::string input = std::string(schema::meta::kInputPrefix) + "0.";
@@ -297,6 +315,12 @@ BuildSummary run_build(const BuildOptions& options) {
       progress.start_stage("writing the terrain grid");
       write_terrain_coverage(output.temp_path(), std::move(terrain_grid), contents.last_change);
       progress.finish_stage(std::string("table ") + kTerrainTable);
+    }
+    // Last: the identity covers every table written above.
+    try {
+      mapcheck::stamp_map_id(output.temp_path());
+    } catch (const std::exception& e) {
+      throw OutputError(std::string("cannot write the map_id: ") + e.what());
     }
   });
   output.commit();
