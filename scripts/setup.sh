@@ -10,6 +10,8 @@ packages=(
   libgdal-dev libcgal-dev libeigen3-dev libboost-dev
   # runtime
   libsqlite3-dev libgeographiclib-dev
+  # map identity (mapcheck: SHA-256 of a map's content for roadcross-build, verify, install)
+  libssl-dev
   # Python bindings (built for Debian's /usr/bin/python3)
   pybind11-dev python3-dev
   # cli and tests
@@ -29,6 +31,9 @@ packages=(
   ros-std-msgs ros-geometry-msgs python3-gencpp python3-genpy python3-genmsg python3-rosmaster
   python3-roslaunch python3-rosparam python3-rospy python3-rosservice python3-std-msgs
   python3-sensor-msgs python3-geometry-msgs python3-nav-msgs
+  # the node publishes its map's identity on /diagnostics (diagnostic_msgs/DiagnosticArray);
+  # the Python messages for its test
+  libdiagnostic-msgs-dev python3-diagnostic-msgs
 )
 
 missing=()

@@ -34,7 +34,8 @@ class Sha256 {
   void update_byte(std::uint8_t byte) { update(&byte, 1); }
   void update_u64(std::uint64_t value) {
     std::array<std::uint8_t, 8> big_endian{};
-    for (int i = 7; i >= 0; --i, value >>= 8) big_endian[static_cast<std::size_t>(i)] = value & 0xff;
+    for (int i = 7; i >= 0; --i, value >>= 8)
+      big_endian[static_cast<std::size_t>(i)] = value & 0xff;
     update(big_endian.data(), big_endian.size());
   }
   /// Length-prefixed bytes: 8-byte big-endian length, then the bytes.
@@ -97,7 +98,8 @@ void hash_value(Sha256& sha, sqlite3_stmt* row, int column) {
 }
 
 bool has_table(sqlite3* db, std::string_view table) {
-  sqlite::Statement query(db, "SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name = ?1");
+  sqlite::Statement query(db,
+                          "SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name = ?1");
   query.bind(1, table);
   query.step();
   return query.column_int64(0) > 0;
@@ -134,10 +136,8 @@ std::vector<HashedTable> hashed_tables() {
                                std::to_string(schema::meta::kContentDigestPrefix.size()) +
                                ") <> '" + std::string(schema::meta::kContentDigestPrefix) + "'";
   return {
-      {schema::kMetadataTable, own_rows, "key"},
-      {schema::kSegmentsTable, "", "fid"},
-      {schema::kCrossingsTable, "", "fid"},
-      {"terrain", "", "id"},
+      {schema::kMetadataTable, own_rows, "key"},    {schema::kSegmentsTable, "", "fid"},
+      {schema::kCrossingsTable, "", "fid"},         {"terrain", "", "id"},
       {"gpkg_2d_gridded_tile_ancillary", "", "id"},
   };
 }

@@ -78,8 +78,8 @@ std::map<std::string, std::string> read_metadata(sqlite::Database& db) {
 void check_columns(sqlite::Database& db, std::string_view table,
                    const std::vector<schema::Column>& expected, std::size_t optional_tail,
                    std::vector<std::string>& problems) {
-  std::vector<std::pair<std::string, std::string>> want = {{"fid", "INTEGER"},
-                                                           {std::string(schema::kGeometryColumn), ""}};
+  std::vector<std::pair<std::string, std::string>> want = {
+      {"fid", "INTEGER"}, {std::string(schema::kGeometryColumn), ""}};
   for (const schema::Column& column : expected) {
     // The declared type is the SQL type's first word (NOT NULL, DEFAULT are constraints).
     const std::string sql_type(column.sql_type);
@@ -97,9 +97,8 @@ void check_columns(sqlite::Database& db, std::string_view table,
   for (std::size_t i = 0; i < std::min(have.size(), want.size()); ++i) {
     const bool type_ok = want[i].second.empty() || have[i].second == want[i].second;
     if (have[i].first != want[i].first || !type_ok) {
-      problems.push_back(where + " column " + std::to_string(i + 1) + " is " + have[i].first +
-                         " " + have[i].second + ", expected " + want[i].first + " " +
-                         want[i].second);
+      problems.push_back(where + " column " + std::to_string(i + 1) + " is " + have[i].first + " " +
+                         have[i].second + ", expected " + want[i].first + " " + want[i].second);
     }
   }
 }
@@ -117,7 +116,8 @@ bool check_schema(sqlite::Database& db, const std::map<std::string, std::string>
     problems.push_back("schema: roadcross_metadata has no schema_version");
   } else {
     schema_version = std::atoi(version->second.c_str());
-    if (schema_version < schema::kOldestReadableVersion || schema_version > schema::kSchemaVersion) {
+    if (schema_version < schema::kOldestReadableVersion ||
+        schema_version > schema::kSchemaVersion) {
       problems.push_back("schema: schema_version " + version->second + " is not one this " +
                          "roadcross reads (" + std::to_string(schema::kOldestReadableVersion) +
                          ".." + std::to_string(schema::kSchemaVersion) + ")");
@@ -140,15 +140,16 @@ bool check_schema(sqlite::Database& db, const std::map<std::string, std::string>
 
 /// Every row of `table` has an R*Tree box equal (within float rounding) to its geometry's
 /// envelope, and every box a row.
-void check_rtree(sqlite::Database& db, std::string_view table, std::string_view rtree,
-                 const std::function<std::optional<schema::Envelope>(std::span<const std::uint8_t>)>&
-                     envelope_of_blob,
-                 std::vector<std::string>& problems) {
+void check_rtree(
+    sqlite::Database& db, std::string_view table, std::string_view rtree,
+    const std::function<std::optional<schema::Envelope>(std::span<const std::uint8_t>)>&
+        envelope_of_blob,
+    std::vector<std::string>& problems) {
   ProblemList list(problems, "R*Tree " + std::string(rtree));
   const std::string t(table), r(rtree);
   auto rows = db.prepare("SELECT t.fid, t." + std::string(schema::kGeometryColumn) +
-                         ", r.id, r.minx, r.maxx, r.miny, r.maxy FROM " + t + " t LEFT JOIN " +
-                         r + " r ON r.id = t.fid ORDER BY t.fid");
+                         ", r.id, r.minx, r.maxx, r.miny, r.maxy FROM " + t + " t LEFT JOIN " + r +
+                         " r ON r.id = t.fid ORDER BY t.fid");
   while (rows.step()) {
     const std::string row = std::string(table) + " fid " + std::to_string(rows.column_int64(0));
     if (rows.column_is_null(2)) {
@@ -218,8 +219,8 @@ void check_content(sqlite::Database& db, const std::map<std::string, std::string
              " stored column digests name no column of the map (a column or table removed?)");
   }
   if (content.map_id != result.stored_map_id) {
-    list.add("map_id " + result.stored_map_id + " does not match the content (" +
-             content.map_id + ")");
+    list.add("map_id " + result.stored_map_id + " does not match the content (" + content.map_id +
+             ")");
   }
 }
 
