@@ -317,8 +317,10 @@ BuildSummary run_build(const BuildOptions& options) {
       progress.finish_stage(std::string("table ") + kTerrainTable);
     }
     // Last: the identity covers every table written above.
+    progress.start_stage("map identity");
     try {
-      mapcheck::stamp_map_id(output.temp_path());
+      const std::string map_id = mapcheck::stamp_map_id(output.temp_path());
+      progress.finish_stage("map_id " + map_id);
     } catch (const std::exception& e) {
       throw OutputError(std::string("cannot write the map_id: ") + e.what());
     }

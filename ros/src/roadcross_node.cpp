@@ -194,8 +194,8 @@ class RoadcrossNode {
     services_.push_back(pnh.advertiseService("gap_decision", &RoadcrossNode::gap_decision, this));
     services_.push_back(pnh.advertiseService("reload", &RoadcrossNode::reload, this));
     diagnostics_pub_ = nh.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 1);
-    diagnostics_timer_ =
-        nh.createTimer(ros::Duration(1.0), [this](const ros::TimerEvent&) { publish_diagnostics(); });
+    diagnostics_timer_ = nh.createTimer(ros::Duration(1.0),
+                                        [this](const ros::TimerEvent&) { publish_diagnostics(); });
     publish_diagnostics();
   }
 
