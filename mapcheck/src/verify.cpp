@@ -255,7 +255,7 @@ VerifyResult verify_map(const std::string& path, const std::string& expected_id)
                 result.problems);
     check_content(db, metadata, result);
   } catch (const std::exception& e) {
-    result.problems.push_back(path + ": cannot read: " + e.what());
+    result.problems.push_back(std::string("cannot read: ") + e.what());
   }
   if (!expected_id.empty() && result.stored_map_id != expected_id) {
     result.problems.push_back("map_id is " +

@@ -70,9 +70,10 @@ newest=$(osmium fileinfo -e -g data.timestamp.last "$PRAGUE_OSM")
 got=$("$ROADCROSS" info --json "$WORK/a.gpkg" | python3 -c 'import json,sys; print(json.load(sys.stdin)["osm_timestamp"])')
 [[ $got == "$newest" ]] && pass "osm_timestamp $got = osmium's newest timestamp" ||
   fail "osm_timestamp $got, osmium says $newest"
-"$ROADCROSS" info "$WORK/a.gpkg" | grep -q "^OSM data as of  $newest\$" && pass "info text: OSM data as of" ||
+text=$("$ROADCROSS" info "$WORK/a.gpkg")  # (read whole: grep -q on the pipe could cut it)
+grep -q "^OSM data as of  $newest\$" <<<"$text" && pass "info text: OSM data as of" ||
   fail "info text lacks 'OSM data as of $newest'"
-"$ROADCROSS" info "$WORK/a.gpkg" | grep -q "^map id          $a\$" && pass "info text: map id" ||
+grep -q "^map id          $a\$" <<<"$text" && pass "info text: map id" ||
   fail "info text lacks the map id"
 # Without timestamps (osmium writes none with add_metadata=false): no osm_timestamp at all.
 osmium cat -f osm,add_metadata=false "$PRAGUE_OSM" -o "$WORK/bare.osm"

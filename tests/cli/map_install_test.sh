@@ -30,7 +30,7 @@ def ask():
     robot.stdin.write(query); robot.stdin.flush()
     answer = json.loads(robot.stdout.readline())
     assert answer["ok"], answer
-    return answer["segment_id"], answer["score"]
+    return answer["result"]["segment_id"], answer["result"]["distance_m"]
 before = ask()
 # Segment ids differ between the two maps (10 m vs 20 m segments): an answer from the new file
 # would show it.
@@ -47,7 +47,8 @@ assert robot.wait() == 0
 assert all(a == before for a in during + after), (before, set(during + after))
 fresh = json.loads(subprocess.run([roadcross, "batch", "--db", target], input=query, text=True,
                                   capture_output=True, check=True).stdout)
-assert (fresh["segment_id"], fresh["score"]) != before, "the new map answers like the old one"
+fresh = fresh["result"]
+assert (fresh["segment_id"], fresh["distance_m"]) != before, "the new map answers like the old one"
 info = json.loads(subprocess.run([roadcross, "info", "--json", target], capture_output=True,
                                  text=True, check=True).stdout)
 assert info["map_id"] == new_id, info["map_id"]

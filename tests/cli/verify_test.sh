@@ -33,7 +33,7 @@ db.create_function("ST_IsEmpty", 1, lambda g: 0)
 for f in ("ST_MinX", "ST_MaxX", "ST_MinY", "ST_MaxY"):
     db.create_function(f, 1, lambda g: 0.0)
 cur = db.execute(sys.argv[2])
-assert cur.rowcount == 1, f"{sys.argv[2]}: {cur.rowcount} rows changed"
+assert cur.rowcount != 0, f"{sys.argv[2]}: no row changed"  # (-1 for ALTER TABLE)
 db.commit()
 PY
 }
@@ -56,7 +56,7 @@ while read -r column type; do
   count=$((count + 1))
 done <<<"$columns"
 expected_columns=$(sqlite3 "$WORK/map.gpkg" "SELECT count(*) FROM pragma_table_info('segments')")
-((count == expected_columns && count >= 40)) && pass "all $count columns of segments mutated" ||
+((count == expected_columns && count >= 39)) && pass "all $count columns of segments mutated" ||
   fail "mutated $count of $expected_columns columns"
 
 mutate "UPDATE roadcross_metadata SET value = '7' WHERE key = 'param.suitability.threshold'"
