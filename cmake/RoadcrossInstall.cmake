@@ -35,7 +35,10 @@ configure_file(${PROJECT_SOURCE_DIR}/cmake/roadcross-runtime.pc.in
 install(FILES ${PROJECT_BINARY_DIR}/roadcross-runtime.pc
         DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig COMPONENT runtime)
 
-install(TARGETS roadcross RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT tools)
+# roadcross, the query, verify and install commands: the robot's command line (component cli,
+# package roadcross-cli), in the runtime-only build too. It links SQLite, GeographicLib and
+# libcrypto only; render, export and view run roadcross-viz from the tools package.
+install(TARGETS roadcross RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT cli)
 if(TARGET roadcross-build)
   install(TARGETS roadcross-build RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT tools)
 endif()
@@ -43,25 +46,58 @@ if(TARGET roadcross-viz)  # beside roadcross, which runs it for render, export a
   install(TARGETS roadcross-viz RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT tools)
 endif()
 
+# Every package's /usr/share/doc/<package>/copyright (Debian's machine-readable format): the
+# source is BSD-3-Clause (LICENSE); roadcross-tools says in addition that roadcross-build links
+# CGAL's GPL-3 Triangulation_2 package, so that binary is GPL-3 as distributed.
+file(READ ${PROJECT_SOURCE_DIR}/LICENSE roadcross_license)
+string(STRIP "${roadcross_license}" roadcross_license)
+string(REPLACE "\n\n" "\n.\n" roadcross_license "${roadcross_license}")
+string(REPLACE "\n" "\n " ROADCROSS_BSD_TEXT " ${roadcross_license}")
+function(roadcross_copyright component package template note)
+  set(ROADCROSS_PACKAGE_NOTE "${note}")
+  configure_file(${PROJECT_SOURCE_DIR}/cmake/copyright/${template}
+                 ${PROJECT_BINARY_DIR}/copyright/${package}/copyright @ONLY)
+  install(FILES ${PROJECT_BINARY_DIR}/copyright/${package}/copyright
+          DESTINATION ${CMAKE_INSTALL_DATAROOTDIR}/doc/${package} COMPONENT ${component})
+endfunction()
+set(roadcross_permissive_note "links SQLite (public domain) and GeographicLib (MIT); no GPL code")
+roadcross_copyright(runtime roadcross-runtime-dev permissive.copyright.in "${roadcross_permissive_note}")
+roadcross_copyright(cli roadcross-cli permissive.copyright.in
+  "${roadcross_permissive_note}; the command line also links OpenSSL's libcrypto (Apache-2.0)")
+
 # Debian packages: roadcross-runtime-dev (library, headers, CMake and pkg-config files),
-# roadcross-tools (the executables) and python3-roadcross (the Python module, when
-# built). `cpack -G DEB` in the build directory.
+# roadcross-cli (the robot's command line: roadcross, without GDAL, Cairo, CGAL or libosmium),
+# roadcross-tools (the workstation's map builder and drawing commands) and python3-roadcross
+# (the Python module, when built). `cpack -G DEB` in the build directory.
 set(CPACK_PACKAGE_NAME roadcross)
 set(CPACK_PACKAGE_VENDOR "roadcross")
 set(CPACK_PACKAGE_CONTACT "roadcross maintainers <roadcross@localhost>")
 set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "Where and how a pavement robot may cross a road")
 set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
 set(CPACK_DEB_COMPONENT_INSTALL ON)
-set(CPACK_COMPONENTS_ALL runtime tools)
+set(CPACK_COMPONENTS_ALL runtime cli)
 set(CPACK_DEBIAN_RUNTIME_PACKAGE_NAME roadcross-runtime-dev)
 set(CPACK_DEBIAN_RUNTIME_PACKAGE_DEPENDS "libsqlite3-dev, libgeographiclib-dev")
-set(CPACK_DEBIAN_TOOLS_PACKAGE_NAME roadcross-tools)
-set(CPACK_DEBIAN_TOOLS_PACKAGE_SHLIBDEPS ON)
+set(CPACK_DEBIAN_CLI_PACKAGE_NAME roadcross-cli)
+set(CPACK_DEBIAN_CLI_PACKAGE_SHLIBDEPS ON)
+set(CPACK_COMPONENT_CLI_DESCRIPTION
+    "roadcross command line for robots: query, verify and install maps (no GIS stack)")
+# roadcross-tools: the workstation's roadcross-build and roadcross-viz (full build only).
+if(TARGET roadcross-build)
+  list(APPEND CPACK_COMPONENTS_ALL tools)
+  set(CPACK_DEBIAN_TOOLS_PACKAGE_NAME roadcross-tools)
+  set(CPACK_DEBIAN_TOOLS_PACKAGE_SHLIBDEPS ON)
+  set(CPACK_DEBIAN_TOOLS_PACKAGE_DEPENDS "roadcross-cli (= ${PROJECT_VERSION})")
+  set(CPACK_COMPONENT_TOOLS_DESCRIPTION
+      "roadcross map builder and drawing commands for the workstation (roadcross-build is GPL-3 as distributed: it links CGAL)")
+  roadcross_copyright(tools roadcross-tools tools.copyright.in "")
+endif()
 # python3-roadcross: the Python module, for the interpreter it was built for.
 if(TARGET roadcross_python)
   list(APPEND CPACK_COMPONENTS_ALL python)
   set(CPACK_DEBIAN_PYTHON_PACKAGE_NAME python3-roadcross)
   set(CPACK_DEBIAN_PYTHON_PACKAGE_SHLIBDEPS ON)
+  roadcross_copyright(python python3-roadcross permissive.copyright.in "${roadcross_permissive_note}")
   math(EXPR roadcross_python_next_minor "${Python_VERSION_MINOR} + 1")
   set(CPACK_DEBIAN_PYTHON_PACKAGE_DEPENDS
       "python3 (>= ${Python_VERSION_MAJOR}.${Python_VERSION_MINOR}), python3 (<< ${Python_VERSION_MAJOR}.${roadcross_python_next_minor})")
@@ -73,6 +109,8 @@ if(TARGET roadcross_node)
   list(APPEND CPACK_COMPONENTS_ALL ros)
   set(CPACK_DEBIAN_ROS_PACKAGE_NAME roadcross-ros)
   set(CPACK_DEBIAN_ROS_PACKAGE_SHLIBDEPS ON)
+  roadcross_copyright(ros roadcross-ros permissive.copyright.in
+    "${roadcross_permissive_note}; the node also links roscpp (BSD-3-Clause)")
   set(CPACK_DEBIAN_ROS_PACKAGE_DEPENDS "python3-genpy, python3-std-msgs")
 endif()
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)

@@ -35,7 +35,8 @@ find_path(ROADCROSS_GEOMETRY_MSGS_DIR Quaternion.msg PATHS /usr/share/geometry_m
 if(NOT ROADCROSS_GEOMETRY_MSGS_DIR)
   list(APPEND ROADCROSS_ROS_MISSING "geometry_msgs definitions (ros-geometry-msgs)")
 endif()
-foreach(header sensor_msgs/NavSatFix.h nav_msgs/Odometry.h geometry_msgs/PoseStamped.h)
+foreach(header sensor_msgs/NavSatFix.h nav_msgs/Odometry.h geometry_msgs/PoseStamped.h
+               diagnostic_msgs/DiagnosticArray.h)
   string(MAKE_C_IDENTIFIER ${header} var)
   find_path(ROADCROSS_ROS_${var} ${header})
   if(NOT ROADCROSS_ROS_${var})

@@ -76,6 +76,12 @@ class MapInfo:
     def tool_version(self) -> str:
         """roadcross-build version that wrote it"""
     @property
+    def map_id(self) -> Optional[str]:
+        """the map's identity: SHA-256 of its content (64 hex digits), None for a map built before map ids"""
+    @property
+    def osm_timestamp(self) -> Optional[str]:
+        """newest OSM object's timestamp, ISO 8601 UTC; None when the input had none"""
+    @property
     def utm_zone(self) -> int:
         """UTM zone number, 1..60"""
     @property

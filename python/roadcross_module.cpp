@@ -236,6 +236,20 @@ void bind_values(py::module_& m) {
                     "the map file's schema version (an integer)")
       .def_readonly("tool_version", &MapInfo::tool_version, "roadcross-build version that wrote it")
       .def_property_readonly(
+          "map_id",
+          [](const MapInfo& i) -> py::object {
+            return i.map_id.empty() ? py::object(py::none()) : py::object(py::str(i.map_id));
+          },
+          "the map's identity: SHA-256 of its content (64 hex digits), None for a map built "
+          "before map ids")
+      .def_property_readonly(
+          "osm_timestamp",
+          [](const MapInfo& i) -> py::object {
+            return i.osm_timestamp.empty() ? py::object(py::none())
+                                           : py::object(py::str(i.osm_timestamp));
+          },
+          "newest OSM object's timestamp, ISO 8601 UTC; None when the input had none")
+      .def_property_readonly(
           "utm_zone", [](const MapInfo& i) { return i.zone.zone; }, "UTM zone number, 1..60")
       .def_property_readonly(
           "utm_northern", [](const MapInfo& i) { return i.zone.northern; },

@@ -11,6 +11,8 @@ packages=(
   libssl-dev  # OpenSSL libcrypto: SHA-256 of the input files
   # runtime
   libsqlite3-dev libgeographiclib-dev
+  # map identity (mapcheck: SHA-256 of a map's content for roadcross-build, verify, install)
+  libssl-dev
   # Python bindings (built for Debian's /usr/bin/python3)
   pybind11-dev python3-dev
   # cli and tests
@@ -30,6 +32,9 @@ packages=(
   ros-std-msgs ros-geometry-msgs python3-gencpp python3-genpy python3-genmsg python3-rosmaster
   python3-roslaunch python3-rosparam python3-rospy python3-rosservice python3-std-msgs
   python3-sensor-msgs python3-geometry-msgs python3-nav-msgs
+  # the node publishes its map's identity on /diagnostics (diagnostic_msgs/DiagnosticArray);
+  # the Python messages for its test
+  libdiagnostic-msgs-dev python3-diagnostic-msgs
 )
 
 missing=()

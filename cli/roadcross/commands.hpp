@@ -33,6 +33,30 @@ class InfoCommand : public Command {
   bool json_ = false;
 };
 
+/// roadcross verify --db MAP [--expect-id ID]: is the file whole and the map ID names?
+class VerifyCommand : public Command {
+ public:
+  explicit VerifyCommand(CLI::App& parent);
+  int run() override;
+
+ private:
+  std::string db_path_;
+  std::string expected_id_;
+  bool json_ = false;
+};
+
+/// roadcross install NEW TARGET: verify NEW, then put it in TARGET's place by rename.
+class InstallCommand : public Command {
+ public:
+  explicit InstallCommand(CLI::App& parent);
+  int run() override;
+
+ private:
+  std::string new_path_;
+  std::string target_path_;
+  std::string expected_id_;
+};
+
 /// roadcross nearest: the nearest road segment and point on its centreline.
 class NearestCommand : public Command {
  public:

@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "roadcross/schema/schema.hpp"
 
 namespace roadcross::cli {
 
@@ -22,6 +23,10 @@ int InfoCommand::run() {
     out["path"] = info.path;
     out["schema_version"] = info.schema_version;
     out["tool_version"] = info.tool_version;
+    out["map_id"] =
+        info.map_id.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(info.map_id);
+    out["osm_timestamp"] = info.osm_timestamp.empty() ? nlohmann::ordered_json()
+                                                      : nlohmann::ordered_json(info.osm_timestamp);
     out["utm_zone"] = info.zone.zone;
     out["utm_northern"] = info.zone.northern;
     out["epsg"] = info.epsg;
@@ -37,6 +42,12 @@ int InfoCommand::run() {
   std::printf("file            %s\n", info.path.c_str());
   std::printf("schema version  %d (written by roadcross-build %s)\n", info.schema_version,
               info.tool_version.c_str());
+  std::printf("map id          %s\n", info.map_id.empty()
+                                          ? "(none: built before map ids, rebuild it)"
+                                          : info.map_id.c_str());
+  std::printf("OSM data as of  %s\n", info.osm_timestamp.empty()
+                                          ? "(unknown: the OSM input had no timestamps)"
+                                          : info.osm_timestamp.c_str());
   std::printf("CRS             WGS 84 / UTM zone %d%s (EPSG:%d)\n", info.zone.zone,
               info.zone.northern ? "N" : "S", info.epsg);
   std::printf("segments        %lld\n", static_cast<long long>(info.segment_count));
@@ -45,8 +56,19 @@ int InfoCommand::run() {
               (info.max_easting_m - info.min_easting_m) / 1000.0,
               (info.max_northing_m - info.min_northing_m) / 1000.0);
   std::printf("metadata\n");
-  for (const auto& [key, value] : info.metadata)
+  // The per-column content digests (what roadcross verify checks) are summed up in one line.
+  int content_digests = 0;
+  for (const auto& [key, value] : info.metadata) {
+    if (key.starts_with(schema::meta::kContentDigestPrefix)) {
+      ++content_digests;
+      continue;
+    }
     std::printf("  %-28s %s\n", key.c_str(), value.c_str());
+  }
+  if (content_digests > 0) {
+    std::printf("  %-28s %d column digests (roadcross verify checks them; --json lists them)\n",
+                "content.*", content_digests);
+  }
   return 0;
 }
 

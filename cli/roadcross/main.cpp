@@ -43,6 +43,8 @@ int main(int argc, char** argv) {
       "roadcross: ask a roadcross map where and how to cross a road.\n\n"
       "Examples:\n"
       "  roadcross info prague.gpkg\n"
+      "  roadcross verify --db prague.gpkg --expect-id 3f1c...\n"
+      "  roadcross install new-prague.gpkg /var/lib/robot/prague.gpkg\n"
       "  roadcross nearest --db prague.gpkg --lat 50.0755 --lon 14.4186\n"
       "  roadcross heading --db prague.gpkg --utm 458803 5546712 --json\n"
       "  roadcross assess --db prague.gpkg --lat 50.075769 --lon 14.416015\n"
@@ -58,6 +60,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   std::vector<std::unique_ptr<roadcross::cli::Command>> commands;
   commands.push_back(std::make_unique<roadcross::cli::InfoCommand>(app));
+  commands.push_back(std::make_unique<roadcross::cli::VerifyCommand>(app));
+  commands.push_back(std::make_unique<roadcross::cli::InstallCommand>(app));
   commands.push_back(std::make_unique<roadcross::cli::NearestCommand>(app));
   commands.push_back(std::make_unique<roadcross::cli::HeadingCommand>(app));
   commands.push_back(std::make_unique<roadcross::cli::AssessCommand>(app));

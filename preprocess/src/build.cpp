@@ -28,6 +28,7 @@
 #include "roadcross/preprocess/rank.hpp"
 #include "roadcross/preprocess/sight/sight.hpp"
 #include "roadcross/preprocess/terrain/terrain.hpp"
+#include "roadcross/mapcheck/content_hash.hpp"
 #include "roadcross/schema/schema.hpp"
 
 namespace roadcross::preprocess {
@@ -50,6 +51,16 @@ std::string iso8601_utc(std::int64_t seconds_since_epoch) {
   gmtime_r(&t, &utc);
   char text[32];
   std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%S.000Z", &utc);
+  return text;
+}
+
+/// "2026-03-01T12:00:00Z": ISO 8601 UTC to the second (OSM timestamps have no fraction).
+std::string iso8601_utc_seconds(std::int64_t seconds_since_epoch) {
+  const std::time_t t = static_cast<std::time_t>(seconds_since_epoch);
+  std::tm utc{};
+  gmtime_r(&t, &utc);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &utc);
   return text;
 }
 
@@ -141,6 +152,8 @@ struct Pipeline {
   std::size_t road_ways = 0;
   std::size_t junctions = 0;
   std::string last_change;
+  /// The newest OSM object's timestamp (ISO 8601), none when the input has none.
+  std::optional<std::string> osm_timestamp;
 };
 
 void check_options(const BuildOptions& options) {
@@ -165,6 +178,10 @@ void segment_stage(const BuildOptions& options, Pipeline& p, Progress& progress)
   progress.finish_stage(std::to_string(p.graph.segments.size()) + " segments in UTM zone " +
                         std::to_string(zone.zone) + (zone.northern ? "N" : "S"));
   p.last_change = iso8601_utc(p.network.newest_timestamp_s);
+  // An OSM file without timestamps (osmium's --omit-timestamp, many extracts' nodes) reads as 0:
+  // no timestamp then, rather than 1970.
+  if (p.network.newest_timestamp_s > 0)
+    p.osm_timestamp = iso8601_utc_seconds(p.network.newest_timestamp_s);
 }
 
 /// The context stage's tag and crossing part reads only what segmenting set, so it runs first:
@@ -230,6 +247,7 @@ std::vector<std::pair<std::string, std::string>> metadata_rows(const BuildOption
   rows.emplace_back(schema::meta::kToolVersion, options.tool_version);
   rows.emplace_back(schema::meta::kAttribution,
                     "Map data (c) OpenStreetMap contributors, ODbL 1.0");
+  if (p.osm_timestamp) rows.emplace_back(schema::meta::kOsmTimestamp, *p.osm_timestamp);
   const std::string input = std::string(schema::meta::kInputPrefix) + "0.";
   rows.emplace_back(input + "kind", "osm");
   rows.emplace_back(input + "file", base_name(options.osm_path));
@@ -276,6 +294,14 @@ void write_stage(const BuildOptions& options, Pipeline& p, const InputHashes& ha
       progress.start_stage("writing the terrain grid");
       write_terrain_coverage(output.temp_path(), std::move(p.terrain_grid), contents.last_change);
       progress.finish_stage(std::string("table ") + kTerrainTable);
+    }
+    // Last: the identity covers every table written above.
+    progress.start_stage("map identity");
+    try {
+      const std::string map_id = mapcheck::stamp_map_id(output.temp_path());
+      progress.finish_stage("map_id " + map_id);
+    } catch (const std::exception& e) {
+      throw OutputError(std::string("cannot write the map_id: ") + e.what());
     }
   });
 }

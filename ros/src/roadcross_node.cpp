@@ -1,7 +1,8 @@
 // roadcross_node: the roadcross runtime as a ROS1 node. It opens one roadcross GeoPackage
 // (parameter ~db), follows the robot's GPS fix (and optionally an odometry or pose topic for the
 // yaw), publishes the assessment of every fix and offers one service per behaviour-tree node of
-// the crossing method: assess, better place, road heading, gap decision, monitor.
+// the crossing method: assess, better place, road heading, gap decision, monitor. ~reload swaps
+// the map between two queries; /diagnostics carries the map's identity (map_id) once a second.
 //
 // Frames: the runtime works in the DB's UTM grid; every yaw this node publishes or accepts is a
 // true ENU yaw (REP-103: 0 = east, counter-clockwise, radians), i.e. grid yaw + the meridian
@@ -14,6 +15,7 @@
 // and services run one after another.
 #include <ros/ros.h>
 
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <geometry_msgs/PoseStamped.h>
 #include <nav_msgs/Odometry.h>
 #include <sensor_msgs/NavSatFix.h>
@@ -32,6 +34,7 @@
 #include "roadcross_ros/BetterPlace.h"
 #include "roadcross_ros/GapDecision.h"
 #include "roadcross_ros/Monitor.h"
+#include "roadcross_ros/Reload.h"
 #include "roadcross_ros/RoadHeading.h"
 #include "roadcross_ros/VehicleList.h"
 
@@ -202,6 +205,11 @@ class RoadcrossNode {
     services_.push_back(pnh.advertiseService("road_heading", &RoadcrossNode::road_heading, this));
     services_.push_back(pnh.advertiseService("monitor", &RoadcrossNode::monitor, this));
     services_.push_back(pnh.advertiseService("gap_decision", &RoadcrossNode::gap_decision, this));
+    services_.push_back(pnh.advertiseService("reload", &RoadcrossNode::reload, this));
+    diagnostics_pub_ = nh.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 1);
+    diagnostics_timer_ = nh.createTimer(ros::Duration(1.0),
+                                        [this](const ros::TimerEvent&) { publish_diagnostics(); });
+    publish_diagnostics();
   }
 
  private:
@@ -225,6 +233,7 @@ class RoadcrossNode {
     }
     fix_ = Fix{fix.latitude, fix.longitude, fix.header.stamp, ros::Time::now()};
     roadcross_ros::Assessment out;
+    out.map_id = map_.info().map_id;
     if (const auto a =
             map_.assess(roadcross::Position::wgs84(fix.latitude, fix.longitude), settings_.assess);
         a.ok()) {
@@ -343,6 +352,7 @@ class RoadcrossNode {
   // --- services ---
 
   bool assess(roadcross_ros::Assess::Request& req, roadcross_ros::Assess::Response& res) {
+    res.map_id = map_.info().map_id;
     const auto position = position_of(req.position, res.message);
     if (!position) return true;  // success = false with the message: the call itself worked
     roadcross::AssessOptions options = settings_.assess;
@@ -351,6 +361,7 @@ class RoadcrossNode {
     const auto a = map_.assess(*position, options);
     res.assessment.header.stamp = ros::Time::now();
     res.assessment.header.frame_id = settings_.utm_frame_id;
+    res.assessment.map_id = res.map_id;
     if (!a.ok()) {
       res.message = res.assessment.error = a.status.message;
       return true;
@@ -362,6 +373,7 @@ class RoadcrossNode {
 
   bool better_place(roadcross_ros::BetterPlace::Request& req,
                     roadcross_ros::BetterPlace::Response& res) {
+    res.map_id = map_.info().map_id;
     const auto position = position_of(req.position, res.message);
     if (!position) return true;
     roadcross::BetterPlaceOptions options = settings_.better;
@@ -401,6 +413,7 @@ class RoadcrossNode {
 
   bool road_heading(roadcross_ros::RoadHeading::Request& req,
                     roadcross_ros::RoadHeading::Response& res) {
+    res.map_id = map_.info().map_id;
     const auto position = position_of(req.position, res.message);
     if (!position) return true;
     const auto h = map_.road_heading(*position, settings_.max_distance_m);
@@ -426,6 +439,7 @@ class RoadcrossNode {
   }
 
   bool monitor(roadcross_ros::Monitor::Request& req, roadcross_ros::Monitor::Response& res) {
+    res.map_id = map_.info().map_id;
     if (req.start.kind == roadcross_ros::Position::CURRENT) {
       res.message = "start: give where the crossing started (WGS84 or UTM), not CURRENT";
       return true;
@@ -481,6 +495,7 @@ class RoadcrossNode {
 
   bool gap_decision(roadcross_ros::GapDecision::Request& req,
                     roadcross_ros::GapDecision::Response& res) {
+    res.map_id = map_.info().map_id;
     const auto position = position_of(req.position, res.message);
     if (!position) return true;
     const std::string policy = req.policy.empty() ? settings_.policy : req.policy;
@@ -555,8 +570,73 @@ class RoadcrossNode {
     return true;
   }
 
+  // --- map identity and replacement ---
+
+  /// Opens req.path (or the current path) and, only when that succeeds, answers from it from
+  /// the next callback on. The single spinner thread runs this between two queries, so none is
+  /// dropped or answered from a half-swapped map; a process that installed the new file by
+  /// rename (roadcross install) leaves the old one readable until this swap closes it.
+  bool reload(roadcross_ros::Reload::Request& req, roadcross_ros::Reload::Response& res) {
+    const std::string path = req.path.empty() ? settings_.db_path : req.path;
+    res.previous_map_id = map_.info().map_id;
+    roadcross::Result<roadcross::Map> opened = roadcross::Map::open(path);
+    if (!opened.ok()) {
+      res.message = "kept " + settings_.db_path + ": " + opened.status.message;
+      res.path = settings_.db_path;
+      res.map_id = map_.info().map_id;
+      ROS_ERROR("reload failed, %s", res.message.c_str());
+      return true;
+    }
+    if (opened->info().zone.zone != map_.info().zone.zone ||
+        opened->info().zone.northern != map_.info().zone.northern) {
+      ROS_WARN("reload: %s is in another UTM zone than the map before; UTM positions change zone",
+               path.c_str());
+    }
+    map_ = std::move(*opened.value);
+    settings_.db_path = path;
+    res.success = true;
+    res.path = path;
+    res.map_id = map_.info().map_id;
+    res.message = "answering from " + path;
+    ROS_INFO("roadcross: reloaded %s, map_id %s (was %s), %lld segments", path.c_str(),
+             res.map_id.c_str(), res.previous_map_id.c_str(),
+             static_cast<long long>(map_.info().segment_count));
+    publish_diagnostics();
+    return true;
+  }
+
+  /// One DiagnosticStatus "roadcross: map": the path and identity of the map answering now.
+  void publish_diagnostics() {
+    const roadcross::MapInfo& info = map_.info();
+    diagnostic_msgs::DiagnosticStatus status;
+    status.name = "roadcross: map";
+    status.hardware_id = settings_.db_path;
+    status.level = info.map_id.empty() ? diagnostic_msgs::DiagnosticStatus::WARN
+                                       : diagnostic_msgs::DiagnosticStatus::OK;
+    status.message = info.map_id.empty() ? "map without map_id (built before map ids): rebuild"
+                                         : "map " + info.map_id.substr(0, 12);
+    const auto add = [&](const std::string& key, const std::string& value) {
+      diagnostic_msgs::KeyValue pair;
+      pair.key = key;
+      pair.value = value;
+      status.values.push_back(pair);
+    };
+    add("path", settings_.db_path);
+    add("map_id", info.map_id);
+    add("osm_timestamp", info.osm_timestamp);
+    add("segment_count", std::to_string(info.segment_count));
+    add("schema_version", std::to_string(info.schema_version));
+    add("tool_version", info.tool_version);
+    diagnostic_msgs::DiagnosticArray array;
+    array.header.stamp = ros::Time::now();
+    array.status.push_back(status);
+    diagnostics_pub_.publish(array);
+  }
+
   Settings settings_;
   roadcross::Map map_;
+  ros::Publisher diagnostics_pub_;
+  ros::Timer diagnostics_timer_;
   ros::Publisher assessment_pub_;
   ros::Subscriber fix_sub_, odom_sub_, pose_sub_, vehicles_sub_;
   std::vector<ros::ServiceServer> services_;
@@ -579,7 +659,9 @@ int main(int argc, char** argv) {
     return 1;
   }
   const roadcross::MapInfo& info = map->info();
-  ROS_INFO("roadcross: %s, %lld segments, UTM zone %d%s", settings.db_path.c_str(),
+  ROS_INFO("roadcross: %s, map_id %s, OSM data as of %s, %lld segments, UTM zone %d%s",
+           settings.db_path.c_str(), info.map_id.empty() ? "(none)" : info.map_id.c_str(),
+           info.osm_timestamp.empty() ? "(unknown)" : info.osm_timestamp.c_str(),
            static_cast<long long>(info.segment_count), info.zone.zone,
            info.zone.northern ? "N" : "S");
   RoadcrossNode node(nh, pnh, std::move(settings), std::move(*map.value));

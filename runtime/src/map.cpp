@@ -142,6 +142,8 @@ Status read_metadata(sqlite::Database& db, MapInfo& info) {
   }
   info.zone.northern = northern_flag != 0;
   if (const std::string* tool = value_of(schema::meta::kToolVersion)) info.tool_version = *tool;
+  if (const std::string* id = value_of(schema::meta::kMapId)) info.map_id = *id;
+  if (const std::string* time = value_of(schema::meta::kOsmTimestamp)) info.osm_timestamp = *time;
   if (const std::string* count = value_of(schema::meta::kSegmentCount)) {
     info.segment_count = std::strtoll(count->c_str(), nullptr, 10);
   }

@@ -40,7 +40,8 @@ except ImportError as e:  # setup.sh installs these; say what is missing instead
     print(f"SKIPPED: ROS Python packages absent ({e}); run scripts/setup.sh")
     sys.exit(77)
 from roadcross_ros.msg import Assessment, Position, TrackedVehicle, VehicleList
-from roadcross_ros.srv import Assess, BetterPlace, GapDecision, Monitor, RoadHeading
+from roadcross_ros.srv import Assess, BetterPlace, GapDecision, Monitor, Reload, RoadHeading
+from diagnostic_msgs.msg import DiagnosticArray
 
 FAILURES = []
 PROCESSES = []  # (Popen, name): every process group we started, stopped in stop_all()
@@ -486,8 +487,79 @@ def main():
     g = gap(position=wgs84(*quiet), vehicles=VehicleList(vehicles=[bad]))
     check(not g.success and "frame 7" in g.message, f"gap with a bad frame: {g.message}")
 
+    map_identity_and_reload(db, assess, quiet)
+
     # The node is still alive after all of this.
     check(PROCESSES[-1][0].poll() is None, "roslaunch and the node are still running")
+
+
+def latest_diagnostics(timeout_s=10.0):
+    """The next /diagnostics message's "roadcross: map" status as a dict of its values."""
+    msg = rospy.wait_for_message("/diagnostics", DiagnosticArray, timeout=timeout_s)
+    for status in msg.status:
+        if status.name == "roadcross: map":
+            return {kv.key: kv.value for kv in status.values}
+    return {}
+
+
+def map_identity_and_reload(db, assess, position):
+    """map_id in the answers and on /diagnostics, as `roadcross info` reads it from the file;
+    ~reload swaps to another map while a second thread keeps querying: no query fails and the
+    answers' map_id changes once, from the old map's to the new one's."""
+    import threading
+    old_id = cli("info", db)["map_id"]
+    r = assess(position=wgs84(*position))
+    check(r.map_id == old_id and r.assessment.map_id == old_id,
+          f"assess answers carry the map's map_id {old_id[:12]}")
+    diag = latest_diagnostics()
+    check(diag.get("map_id") == old_id and diag.get("path") == db,
+          f"/diagnostics carries map_id and path: {diag}")
+
+    # Another map: the same OSM input with 20 m segments (another content, so another id).
+    new_db = os.path.join(WORK, "prague-20m.gpkg")
+    subprocess.run([BUILD, "--osm", OSM, "-o", new_db, "-q",
+                    "--segments.max_segment_length_m", "20"], check=True)
+    new_id = cli("info", new_db)["map_id"]
+    check(new_id != old_id, "a map with other parameters has another map_id")
+
+    reload = rospy.ServiceProxy("/roadcross/reload", Reload)
+    seen, errors, stop = [], [], threading.Event()
+    querier = rospy.ServiceProxy("/roadcross/assess", Assess, persistent=True)
+
+    def query_until_stopped():
+        while not stop.is_set():
+            try:
+                a = querier(position=wgs84(*position))
+                seen.append(a.map_id if a.success else "failed: " + a.message)
+            except Exception as e:  # a dropped call
+                errors.append(str(e))
+
+    thread = threading.Thread(target=query_until_stopped)
+    thread.start()
+    time.sleep(1.0)
+    before = len(seen)
+    res = reload(path=new_db)
+    time.sleep(1.0)
+    stop.set()
+    thread.join()
+    check(res.success and res.map_id == new_id and res.previous_map_id == old_id and
+          res.path == new_db, f"reload to {new_db}: {res.message}")
+    changes = sum(1 for a, b in zip(seen, seen[1:]) if a != b)
+    check(not errors and seen and seen[0] == old_id and seen[-1] == new_id and changes == 1 and
+          before > 0, f"{len(seen)} queries during the reload, none dropped or failed "
+          f"({len(errors)} errors, {changes} change of map_id)")
+    diag = latest_diagnostics()
+    check(diag.get("map_id") == new_id and diag.get("path") == new_db,
+          "/diagnostics names the new map after the reload")
+    # A map that cannot be opened: refused, the node keeps answering from the one it had.
+    res = reload(path=os.path.join(WORK, "missing.gpkg"))
+    check(not res.success and res.map_id == new_id and "missing.gpkg" in res.message,
+          f"reload of a missing file is refused, the map stays: {res.message}")
+    check(assess(position=wgs84(*position)).map_id == new_id, "still answering from the new map")
+    # No path: reopen the current one (what a robot does after `roadcross install`).
+    res = reload(path="")
+    check(res.success and res.map_id == new_id and res.path == new_db,
+          f"reload without a path reopens {res.path}")
 
 
 def installed_package():

@@ -78,6 +78,12 @@ struct MapInfo {
   std::int64_t segment_count = 0;
   /// Extent of all segments in the map's UTM zone, metres.
   double min_easting_m = 0.0, min_northing_m = 0.0, max_easting_m = 0.0, max_northing_m = 0.0;
+  /// The map's identity: SHA-256 of its content, 64 lower-case hex digits (roadcross verify
+  /// recomputes it); empty for a map built before map_id existed.
+  std::string map_id;
+  /// The newest OSM object's timestamp, ISO 8601 UTC ("2026-03-01T12:00:00Z"): how current the
+  /// map's roads are. Empty when the OSM input carried no timestamps.
+  std::string osm_timestamp;
   /// Every row of the metadata table (schema version, parameters, inputs), sorted by key.
   std::vector<std::pair<std::string, std::string>> metadata;
 };

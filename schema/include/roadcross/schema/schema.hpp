@@ -46,6 +46,15 @@ inline constexpr std::string_view kAttribution = "attribution";
 /// Country whose implicit speed limits filled untagged ways ("CZ", ..., "default").
 inline constexpr std::string_view kContextCountry = "context_country";
 inline constexpr std::string_view kCrossingCount = "crossing_count";
+/// The map's identity: SHA-256 (64 lower-case hex digits) of its content, as
+/// roadcross::mapcheck defines it (docs/embedding.md, "The map's identity").
+inline constexpr std::string_view kMapId = "map_id";
+/// The newest OSM object's timestamp, ISO 8601 UTC ("2026-03-01T12:00:00Z"); absent when the
+/// OSM input carries no timestamps.
+inline constexpr std::string_view kOsmTimestamp = "osm_timestamp";
+/// "content.<table>.<column>": SHA-256 of one column's values, from which map_id is computed;
+/// lets verify name the column that changed.
+inline constexpr std::string_view kContentDigestPrefix = "content.";
 /// Parameters are stored as "param.<name>"; inputs as "input.<n>.path", "input.<n>.sha256",
 /// "input.<n>.kind".
 inline constexpr std::string_view kParamPrefix = "param.";

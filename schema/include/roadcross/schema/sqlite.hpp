@@ -79,6 +79,8 @@ class Statement {
   }
 
   int parameter_count() const noexcept { return sqlite3_bind_parameter_count(stmt_); }
+  /// The raw statement, for reading a column whatever its type (sqlite3_column_type).
+  sqlite3_stmt* handle() const noexcept { return stmt_; }
 
   std::int64_t column_int64(int i) const { return sqlite3_column_int64(stmt_, i); }
   double column_double(int i) const { return sqlite3_column_double(stmt_, i); }
