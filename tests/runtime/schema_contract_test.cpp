@@ -53,6 +53,11 @@ TEST(SchemaContract, EachSegmentColumnEnumeratorNamesItsColumn) {
       {C::sight_backward_m, "sight_backward_m"},
       {C::sight_min_m, "sight_min_m"},
       {C::required_sight_m, "required_sight_m"},
+      {C::kerb, "kerb"},
+      {C::kerb_height_m, "kerb_height_m"},
+      {C::crossing_island, "crossing_island"},
+      {C::sidewalk_left, "sidewalk_left"},
+      {C::sidewalk_right, "sidewalk_right"},
   };
   ASSERT_EQ(schema::segment_columns().size(), expected.size());
   ASSERT_EQ(schema::kSegmentColumnCount, expected.size());
@@ -94,5 +99,6 @@ TEST(SchemaContract, WhatForbidsByItself) {
   }
   EXPECT_EQ(forbidding,
             (std::vector<std::string_view>{"NOT_CROSSABLE_CLASS", "TUNNEL", "LIMITED_VISIBILITY",
-                                           "TOO_FAR_FROM_ROAD", "LOW_SCORE"}));
+                                           "TOO_FAR_FROM_ROAD", "LOW_SCORE", "KERB_TOO_HIGH",
+                                           "NO_PAVEMENT_FAR_SIDE"}));
 }
