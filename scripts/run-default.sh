@@ -21,8 +21,8 @@ echo
 echo "== A robot 5 m north of Resslova street, west of Karlovo namesti: may it cross here?"
 ./build/release/cli/roadcross assess --db out/prague.gpkg --lat 50.075769 --lon 14.416015
 echo
-echo "== Where is a better place nearby, walking along the road on its side (150 m)?"
-./build/release/cli/roadcross better --db out/prague.gpkg --lat 50.075769 --lon 14.416015 --radius 150
+echo "== Where is a better place nearby, walking along the road on its side (200 m)?"
+./build/release/cli/roadcross better --db out/prague.gpkg --lat 50.075769 --lon 14.416015 --radius 200
 echo
 echo "== And which way would it face to cross here?"
 ./build/release/cli/roadcross heading --db out/prague.gpkg --lat 50.075769 --lon 14.416015

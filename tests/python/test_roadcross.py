@@ -588,7 +588,12 @@ class Installed(unittest.TestCase):
                             "--component", "python"], check=True, capture_output=True)
             found = sorted(os.path.join(root, f) for root, _, files in os.walk(prefix)
                            for f in files)
-            # The module and its type stub (python/roadcross.pyi), side by side.
+            # The package's copyright file (share/doc/python3-roadcross/copyright), then the
+            # module and its type stub (python/roadcross.pyi), side by side.
+            copyright_files = [f for f in found if f.endswith("/copyright")]
+            self.assertEqual([os.path.relpath(f, prefix) for f in copyright_files],
+                             ["share/doc/python3-roadcross/copyright"], found)
+            found = [f for f in found if f not in copyright_files]
             self.assertEqual(len(found), 2, found)
             site = os.path.dirname(found[0])
             self.assertEqual([os.path.dirname(f) for f in found], [site, site])

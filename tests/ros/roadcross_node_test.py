@@ -300,10 +300,10 @@ def main():
     check(near(2 * math.atan2(q.z, q.w), h.crossing_yaw_rad, 1e-9) and q.x == 0 and q.y == 0,
           "crossing orientation: quaternion of the crossing yaw about +z")
 
-    # --- better place near Resslova (150 m, as the README).
-    b = better(position=wgs84(*resslova), search_radius_m=150.0)
+    # --- better place near Resslova (200 m, as the README).
+    b = better(position=wgs84(*resslova), search_radius_m=200.0)
     ref = cli("better", "--db", db, "--lat", str(resslova[0]), "--lon", str(resslova[1]),
-              "--radius", "150")
+              "--radius", "200")
     ok = b.success and len(b.candidates) == len(ref["candidates"]) > 0 and b.reason == ref["reason"]
     for c, rc in zip(b.candidates, ref["candidates"]):
         nh = cli("heading", "--db", db, "--utm", str(c.easting_m), str(c.northing_m))
@@ -323,7 +323,7 @@ def main():
                      and near(back["query_utm_m"][1], c.northing_m, 1e-3))
     check(ok, f"better place: {len(b.candidates)} candidates as `roadcross better`, "
               "true yaws, WGS84 round trip")
-    b2 = better(position=wgs84(*resslova), search_radius_m=150.0, max_candidates=2)
+    b2 = better(position=wgs84(*resslova), search_radius_m=200.0, max_candidates=2)
     check(b2.success and len(b2.candidates) == min(2, len(ref["candidates"])),
           "better place: max_candidates 2")
 
