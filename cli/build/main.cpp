@@ -9,11 +9,11 @@
 #include <nlohmann/json.hpp>
 
 #include "roadcross/preprocess/build.hpp"
-#include "roadcross/preprocess/terrain/elevation_input.hpp"
 #include "roadcross/preprocess/common/errors.hpp"
 #include "roadcross/preprocess/common/interrupt.hpp"
-#include "roadcross/preprocess/parameter_file.hpp"
 #include "roadcross/preprocess/common/progress.hpp"
+#include "roadcross/preprocess/parameter_file.hpp"
+#include "roadcross/preprocess/terrain/elevation_input.hpp"
 #include "roadcross/version.hpp"
 
 namespace rp = roadcross::preprocess;

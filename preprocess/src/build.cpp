@@ -14,6 +14,7 @@
 #include <optional>
 #include <utility>
 
+#include "roadcross/mapcheck/content_hash.hpp"
 #include "roadcross/preprocess/common/errors.hpp"
 #include "roadcross/preprocess/common/progress.hpp"
 #include "roadcross/preprocess/common/sha256.hpp"
@@ -28,7 +29,6 @@
 #include "roadcross/preprocess/rank.hpp"
 #include "roadcross/preprocess/sight/sight.hpp"
 #include "roadcross/preprocess/terrain/terrain.hpp"
-#include "roadcross/mapcheck/content_hash.hpp"
 #include "roadcross/schema/schema.hpp"
 
 namespace roadcross::preprocess {
@@ -45,23 +45,24 @@ void return_freed_memory() {
 #endif
 }
 
-std::string iso8601_utc(std::int64_t seconds_since_epoch) {
+/// ISO 8601 UTC of a POSIX time; `format`: strftime's, e.g. "%Y-%m-%dT%H:%M:%SZ".
+std::string utc_text(std::int64_t seconds_since_epoch, const char* format) {
   const std::time_t t = static_cast<std::time_t>(seconds_since_epoch);
   std::tm utc{};
   gmtime_r(&t, &utc);
   char text[32];
-  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%S.000Z", &utc);
+  std::strftime(text, sizeof text, format, &utc);
   return text;
+}
+
+/// "2026-03-01T12:00:00.000Z", as GeoPackage's last_change wants it.
+std::string iso8601_utc(std::int64_t seconds_since_epoch) {
+  return utc_text(seconds_since_epoch, "%Y-%m-%dT%H:%M:%S.000Z");
 }
 
 /// "2026-03-01T12:00:00Z": ISO 8601 UTC to the second (OSM timestamps have no fraction).
 std::string iso8601_utc_seconds(std::int64_t seconds_since_epoch) {
-  const std::time_t t = static_cast<std::time_t>(seconds_since_epoch);
-  std::tm utc{};
-  gmtime_r(&t, &utc);
-  char text[32];
-  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &utc);
-  return text;
+  return utc_text(seconds_since_epoch, "%Y-%m-%dT%H:%M:%SZ");
 }
 
 std::string base_name(const std::string& path) {

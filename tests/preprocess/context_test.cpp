@@ -1,6 +1,7 @@
 // The context stage on tests/data/context_tags.osm, a hand-written map with one road per tag
 // form and one node per crossing kind. Every expected value below is derived by hand from the
-// tag, the national table (CZ: the map's speed tags are mostly CZ:*) and the thesis' points (docs/cost-model.md):
+// tag, the national table (CZ: the map's speed tags are mostly CZ:*) and the thesis' points
+// (docs/cost-model.md):
 //   speed <=30 -> 3, <=50 -> 2, <=80 -> 1; lanes 1..4 -> 5, 4, 2, 1; width <=3.5/4.5/5.5/6.5 ->
 //   4/3/2/1; residential, living_street, service 3, primary 1, trunk -4, motorway -10;
 //   defaults: two-way residential 2 lanes, width = lanes x 3.0 m (x 3.5 m on major roads).
@@ -11,10 +12,10 @@
 
 #include "osm_fixture.hpp"
 #include "roadcross/preprocess/build.hpp"
-#include "roadcross/preprocess/context/context.hpp"
 #include "roadcross/preprocess/common/progress.hpp"
-#include "roadcross/preprocess/osm/road_network.hpp"
+#include "roadcross/preprocess/context/context.hpp"
 #include "roadcross/preprocess/graph/segments.hpp"
+#include "roadcross/preprocess/osm/road_network.hpp"
 #include "roadcross/schema/schema.hpp"
 #include "roadcross/schema/sqlite.hpp"
 

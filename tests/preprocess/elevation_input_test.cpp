@@ -6,8 +6,8 @@
 #include <cmath>
 
 #include "osm_fixture.hpp"
-#include "roadcross/preprocess/terrain/elevation_input.hpp"
 #include "roadcross/preprocess/common/errors.hpp"
+#include "roadcross/preprocess/terrain/elevation_input.hpp"
 
 namespace rp = roadcross::preprocess;
 using roadcross::testing::TempDir;

@@ -10,8 +10,8 @@
 #include "osm_fixture.hpp"
 #include "roadcross/preprocess/common/errors.hpp"
 #include "roadcross/preprocess/common/progress.hpp"
-#include "roadcross/preprocess/osm/road_network.hpp"
 #include "roadcross/preprocess/graph/segments.hpp"
+#include "roadcross/preprocess/osm/road_network.hpp"
 
 namespace rp = roadcross::preprocess;
 namespace rt = roadcross::testing;

@@ -8,9 +8,9 @@
 #include <cstring>
 #include <osmium/handler.hpp>
 
-#include "roadcross/preprocess/osm/osm_pass.hpp"
 #include "roadcross/preprocess/common/errors.hpp"
 #include "roadcross/preprocess/common/progress.hpp"
+#include "roadcross/preprocess/osm/osm_pass.hpp"
 
 namespace roadcross::preprocess {
 

@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "roadcross/geo.hpp"
-#include "roadcross/preprocess/parameters.hpp"
 #include "roadcross/preprocess/common/progress.hpp"
+#include "roadcross/preprocess/parameters.hpp"
 #include "roadcross/preprocess/terrain/terrain.hpp"
 
 namespace roadcross::preprocess {

@@ -8,9 +8,9 @@
 #include <utility>
 #include <vector>
 
+#include "roadcross/preprocess/common/parameter_spec.hpp"
 #include "roadcross/preprocess/context/context.hpp"
 #include "roadcross/preprocess/geometry/geometry_cost.hpp"
-#include "roadcross/preprocess/common/parameter_spec.hpp"
 #include "roadcross/preprocess/rank.hpp"
 #include "roadcross/preprocess/sight/sight.hpp"
 #include "roadcross/preprocess/terrain/terrain.hpp"

@@ -1,5 +1,5 @@
-// The context score (thesis 4.2.4, docs/cost-model.md): how fast, wide and busy a road is from its OSM
-// tags, plus a bonus near a designated crossing, and the operator overrides on top. Fills
+// The context score (thesis 4.2.4, docs/cost-model.md): how fast, wide and busy a road is from its
+// OSM tags, plus a bonus near a designated crossing, and the operator overrides on top. Fills
 // maxspeed_kmh, lanes, width_m, context_score, crossing_distance_m, context_defaulted and the
 // override fields of every segment, and appends BUSY_ROAD (and OVERRIDE for no_crossing).
 #pragma once
@@ -10,9 +10,9 @@
 #include <string_view>
 #include <vector>
 
+#include "roadcross/preprocess/common/parameter_spec.hpp"
 #include "roadcross/preprocess/context/crossings.hpp"
 #include "roadcross/preprocess/context/overrides.hpp"
-#include "roadcross/preprocess/common/parameter_spec.hpp"
 #include "roadcross/preprocess/graph/segments.hpp"
 
 namespace roadcross::preprocess {

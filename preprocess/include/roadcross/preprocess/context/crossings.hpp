@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "roadcross/preprocess/osm/road_network.hpp"
 #include "roadcross/preprocess/graph/segments.hpp"
+#include "roadcross/preprocess/osm/road_network.hpp"
 
 namespace roadcross::preprocess {
 
