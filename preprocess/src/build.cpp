@@ -9,25 +9,27 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <filesystem>
 #include <functional>
 #include <future>
 #include <optional>
 #include <utility>
 
-#include "roadcross/preprocess/context/context.hpp"
+#include "roadcross/files/atomic_file.hpp"
 #include "roadcross/preprocess/common/errors.hpp"
-#include "roadcross/preprocess/geometry/geometry_cost.hpp"
-#include "roadcross/preprocess/output/gpkg_writer.hpp"
+#include "roadcross/preprocess/common/progress.hpp"
+#include "roadcross/preprocess/common/sha256.hpp"
+#include "roadcross/preprocess/context/context.hpp"
 #include "roadcross/preprocess/context/osm_tags.hpp"
 #include "roadcross/preprocess/context/overrides.hpp"
-#include "roadcross/preprocess/common/progress.hpp"
-#include "roadcross/preprocess/rank.hpp"
-#include "roadcross/preprocess/osm/road_network.hpp"
+#include "roadcross/preprocess/geometry/geometry_cost.hpp"
 #include "roadcross/preprocess/graph/segments.hpp"
-#include "roadcross/preprocess/common/sha256.hpp"
+#include "roadcross/preprocess/osm/road_network.hpp"
+#include "roadcross/preprocess/output/gpkg_writer.hpp"
+#include "roadcross/preprocess/output/terrain_coverage.hpp"
+#include "roadcross/preprocess/rank.hpp"
 #include "roadcross/preprocess/sight/sight.hpp"
 #include "roadcross/preprocess/terrain/terrain.hpp"
-#include "roadcross/preprocess/output/terrain_coverage.hpp"
 #include "roadcross/schema/schema.hpp"
 
 namespace roadcross::preprocess {
@@ -132,6 +134,12 @@ InputHashes hash_inputs(const BuildOptions& options) {
   return hashes;
 }
 
+/// The folder an output path is in ("." for a bare name).
+std::string folder_of(const std::string& path) {
+  const std::string parent = std::filesystem::path(path).parent_path().string();
+  return parent.empty() ? std::string(".") : parent;
+}
+
 }  // namespace
 
 BuildSummary run_build(const BuildOptions& options) {
@@ -150,6 +158,10 @@ BuildSummary run_build(const BuildOptions& options) {
                                               ? std::vector<Override>{}
                                               : read_overrides(options.overrides_path);
 
+  // What builds killed in this folder left (SIGKILL cannot be caught): their temporary files
+  // are locked by no process any more.
+  const std::vector<std::string> removed_temporaries =
+      files::remove_dead_temporaries(folder_of(options.output_path));
   // Create the temporary output first: an unwritable target fails before minutes of work.
   AtomicOutput output(options.output_path);
   Progress progress(options.show_progress);
@@ -312,6 +324,9 @@ BuildSummary run_build(const BuildOptions& options) {
   summary.crossings = context.crossings.size();
   summary.notes = context.summary_lines();
   summary.notes.insert(summary.notes.end(), sight_notes.begin(), sight_notes.end());
+  for (const std::string& path : removed_temporaries) {
+    summary.notes.push_back("removed " + path + ", left by a build that was killed");
+  }
   summary.has_elevation = has_elevation;
   summary.terrain = terrain;
   if (has_elevation) {
