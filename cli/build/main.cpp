@@ -9,11 +9,11 @@
 #include <nlohmann/json.hpp>
 
 #include "roadcross/preprocess/build.hpp"
-#include "roadcross/preprocess/terrain/elevation_input.hpp"
 #include "roadcross/preprocess/common/errors.hpp"
 #include "roadcross/preprocess/common/interrupt.hpp"
-#include "roadcross/preprocess/parameter_file.hpp"
 #include "roadcross/preprocess/common/progress.hpp"
+#include "roadcross/preprocess/parameter_file.hpp"
+#include "roadcross/preprocess/terrain/elevation_input.hpp"
 #include "roadcross/version.hpp"
 
 namespace rp = roadcross::preprocess;
@@ -141,6 +141,13 @@ int main(int argc, char** argv) {
     }
   } catch (const rp::ParameterError& e) {
     std::cerr << "roadcross-build: invalid parameter: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "roadcross-build: error: " << e.what() << "\n";
+    return 1;
+  }
+  if (options.output_path.empty()) {
+    std::cerr << "roadcross-build: -o/--output: an empty name is not a file\n";
     return 2;
   }
 
