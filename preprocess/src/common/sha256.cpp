@@ -9,6 +9,7 @@
 #include "roadcross/preprocess/common/errors.hpp"
 
 #if defined(__x86_64__) && defined(__GNUC__)
+#include <cpuid.h>
 #include <immintrin.h>
 #endif
 
@@ -128,10 +129,13 @@ __attribute__((target("sha,sse4.1,ssse3"))) void compress_sha_ni(Sha256State& st
 }  // namespace
 
 Sha256Compress sha256_compress_hardware() {
-  __builtin_cpu_init();
-  const bool has = __builtin_cpu_supports("sha") && __builtin_cpu_supports("sse4.1") &&
-                   __builtin_cpu_supports("ssse3");
-  return has ? &compress_sha_ni : nullptr;
+  // CPUID directly: clang's __builtin_cpu_supports knows no "sha".
+  unsigned eax = 0, ebx = 0, ecx = 0, edx = 0;
+  if (!__get_cpuid_count(7, 0, &eax, &ebx, &ecx, &edx)) return nullptr;
+  const bool sha = (ebx >> 29) & 1u;
+  if (!__get_cpuid(1, &eax, &ebx, &ecx, &edx)) return nullptr;
+  const bool ssse3 = (ecx >> 9) & 1u, sse41 = (ecx >> 19) & 1u;
+  return sha && ssse3 && sse41 ? &compress_sha_ni : nullptr;
 }
 #else
 Sha256Compress sha256_compress_hardware() {
