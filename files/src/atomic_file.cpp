@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <sys/file.h>
 #include <sys/stat.h>
+#include <sys/xattr.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -83,6 +84,15 @@ bool holds_geopackage(int fd) {
          std::memcmp(header + 68, "GPKG", 4) == 0;
 }
 
+/// The extended attribute that marks a file as an AtomicFile's temporary (where the file system
+/// has user attributes): what proves a file nobody locks to be a dead writer's.
+constexpr const char* kMarkerAttribute = "user.roadcross.temporary";
+
+bool has_marker(int fd) {
+  char value[2];
+  return ::fgetxattr(fd, kMarkerAttribute, value, sizeof value) == 1 && value[0] == '1';
+}
+
 /// Whether the temporary file `path` is provably a dead writer's: see remove_dead_temporaries.
 bool is_dead_temporary(const std::string& path) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC | O_NONBLOCK);
@@ -93,7 +103,7 @@ bool is_dead_temporary(const std::string& path) {
   if (dead) {
     const bool old_and_empty =
         st.st_size == 0 && std::time(nullptr) - st.st_mtime >= kEmptyTemporaryAge_s;
-    dead = old_and_empty || holds_geopackage(fd);
+    dead = old_and_empty || has_marker(fd) || holds_geopackage(fd);
   }
   ::close(fd);  // drops the probe's lock
   return dead;
@@ -135,6 +145,9 @@ AtomicFile::AtomicFile(std::string target, NameRegistry registry)
     fd_ = ::open(candidate.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
     if (fd_ >= 0) {
       temp_path_ = std::move(candidate);
+      // Marked as ours (ignored where the file system has no user attributes: the GeoPackage
+      // header then proves it).
+      (void)::fsetxattr(fd_, kMarkerAttribute, "1", 1, 0);
       if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
         const std::string why = errno_text();
         remove_temporaries();

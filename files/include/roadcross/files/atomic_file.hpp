@@ -75,8 +75,10 @@ void write_file_atomically(const std::string& path, std::string_view content);
 
 /// Removes from `folder` the temporary files of writers that died without cleaning up (killed
 /// with SIGKILL, power lost): files named `NAME.tmp-XXXXXX` (six letters or digits) that are
-/// regular files owned by this user, locked by no process, and either hold a SQLite database or
-/// are empty and older than a minute (a new writer locks its file right after creating it); and
+/// regular files owned by this user, locked by no process, and marked as an AtomicFile's (the
+/// extended attribute user.roadcross.temporary, where the file system keeps it), or holding a
+/// GeoPackage, or empty and older than a minute (a new writer locks its file right after
+/// creating it); and
 /// their `-journal`/`-rows` siblings when the temporary file itself is gone. Returns the
 /// removed names. Never throws (a folder that cannot be listed is left alone).
 std::vector<std::string> remove_dead_temporaries(const std::string& folder);
