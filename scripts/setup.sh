@@ -21,6 +21,8 @@ packages=(
   libcairo2-dev fonts-dejavu-core
   # checking tools used by tests and benchmarks
   osmium-tool gdal-bin sqlite3 time bc gnuplot-nox
+  # the fuzzing campaign (scripts/fuzz.sh): clang with libFuzzer's runtime (libclang_rt.fuzzer)
+  clang libclang-rt-14-dev
   # type-checks the Python examples of docs/embedding.md against python/roadcross.pyi
   python3-mypy
   # the viewer's test loads the page in headless Chromium

@@ -142,6 +142,13 @@ int main(int argc, char** argv) {
   } catch (const rp::ParameterError& e) {
     std::cerr << "roadcross-build: invalid parameter: " << e.what() << "\n";
     return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "roadcross-build: error: " << e.what() << "\n";
+    return 1;
+  }
+  if (options.output_path.empty()) {
+    std::cerr << "roadcross-build: -o/--output: an empty name is not a file\n";
+    return 2;
   }
 
   for (const std::string& path : elevation_paths) {

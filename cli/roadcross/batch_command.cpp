@@ -9,6 +9,7 @@
 
 #include "commands.hpp"
 #include "json_output.hpp"
+#include "request_lines.hpp"
 
 namespace roadcross::cli {
 namespace {
@@ -55,6 +56,22 @@ nlohmann::ordered_json handle(Map& map, const nlohmann::json& request) {
 
 }  // namespace
 
+std::string batch_answer(Map& map, const std::string& line, long number, bool& failed) {
+  nlohmann::ordered_json out;
+  try {
+    out = handle(map, nlohmann::json::parse(line));
+  } catch (const std::exception& e) {
+    out["ok"] = false;
+    out["error"] = std::string("line ") + std::to_string(number) + ": " + e.what();
+  }
+  failed = !out["ok"].get<bool>();
+  nlohmann::ordered_json numbered;
+  numbered["line"] = number;
+  for (auto& [key, value] : out.items()) numbered[key] = value;
+  // Text from the request or the map may be any bytes: replaced (U+FFFD), never fatal.
+  return numbered.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
 BatchCommand::BatchCommand(CLI::App& parent) {
   app_ = parent.add_subcommand("batch",
                                "answer one JSON request per line of stdin, one JSON line each");
@@ -70,18 +87,9 @@ int BatchCommand::run() {
   while (std::getline(std::cin, line)) {
     ++number;
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    nlohmann::ordered_json out;
-    try {
-      out = handle(*map, nlohmann::json::parse(line));
-    } catch (const std::exception& e) {
-      out["ok"] = false;
-      out["error"] = std::string("line ") + std::to_string(number) + ": " + e.what();
-    }
-    if (!out["ok"].get<bool>()) ++failures;
-    nlohmann::ordered_json numbered;
-    numbered["line"] = number;
-    for (auto& [key, value] : out.items()) numbered[key] = value;
-    std::cout << numbered.dump() << "\n";
+    bool failed = false;
+    std::cout << batch_answer(*map, line, number, failed) << "\n";
+    if (failed) ++failures;
   }
   return failures == 0 ? 0 : 3;  // 3: the batch ran, but some requests failed (see their lines)
 }

@@ -7,13 +7,10 @@
 
 #include "commands.hpp"
 #include "json_output.hpp"
+#include "request_lines.hpp"
 
 namespace roadcross::cli {
-namespace {
 
-/// One vehicle from a JSON object: UTM ("easting", "northing") or robot ENU ("east_m",
-/// "north_m"), velocity "vx_mps", "vy_mps", optional "length_m", "age_s",
-/// "speed_uncertainty_mps". Throws with a message for the user.
 TrackedVehicle parse_vehicle(const nlohmann::json& j, double now_s) {
   if (!j.is_object()) throw std::runtime_error("expected a JSON object");
   const auto number = [&j](const char* key) {
@@ -38,6 +35,8 @@ TrackedVehicle parse_vehicle(const nlohmann::json& j, double now_s) {
   v.time_s = now_s - (j.contains("age_s") ? number("age_s") : 0.0);
   return v;
 }
+
+namespace {
 
 const char* reason_sentence(GapReason reason) {
   switch (reason) {

@@ -9,11 +9,13 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <filesystem>
 #include <functional>
 #include <future>
 #include <optional>
 #include <utility>
 
+#include "roadcross/files/atomic_file.hpp"
 #include "roadcross/mapcheck/content_hash.hpp"
 #include "roadcross/preprocess/common/errors.hpp"
 #include "roadcross/preprocess/common/progress.hpp"
@@ -156,6 +158,12 @@ struct Pipeline {
   /// The newest OSM object's timestamp (ISO 8601), none when the input has none.
   std::optional<std::string> osm_timestamp;
 };
+
+/// The folder an output path is in ("." for a bare name).
+std::string folder_of(const std::string& path) {
+  const std::string parent = std::filesystem::path(path).parent_path().string();
+  return parent.empty() ? std::string(".") : parent;
+}
 
 void check_options(const BuildOptions& options) {
   options.parameters.validate();
@@ -355,6 +363,10 @@ BuildSummary run_build(const BuildOptions& options) {
   Pipeline p;
   // Overrides are read before the long work so that a bad file fails at once.
   if (!options.overrides_path.empty()) p.overrides = read_overrides(options.overrides_path);
+  // What builds killed in this folder left (SIGKILL cannot be caught): their temporary files
+  // are locked by no process any more.
+  const std::vector<std::string> removed_temporaries =
+      files::remove_dead_temporaries(folder_of(options.output_path));
   // Create the temporary output first: an unwritable target fails before minutes of work.
   AtomicOutput output(options.output_path);
   Progress progress(options.show_progress);
@@ -397,6 +409,9 @@ BuildSummary run_build(const BuildOptions& options) {
   output.commit();
 
   BuildSummary summary = summarize(options, p, progress);
+  for (const std::string& path : removed_temporaries) {
+    summary.notes.push_back("removed " + path + ", left by a build that was killed");
+  }
   summary.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return summary;

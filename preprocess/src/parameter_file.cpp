@@ -3,6 +3,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -141,11 +142,34 @@ void parse_parameter_text(std::string_view text, const std::string& name, Parame
 }
 
 void read_parameter_file(const std::string& path, Parameters& parameters) {
-  std::ifstream file(path);
+  // A parameter file is a few kB: a folder, a device (/dev/zero is endless) or a huge file is a
+  // mistake, said before reading.
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (ec || !std::filesystem::exists(status)) {
+    throw ParameterError(path + ": cannot open the parameter file (no such file)");
+  }
+  if (std::filesystem::is_directory(status)) {
+    throw ParameterError(path + ": is a folder, not a parameter file");
+  }
+  if (!std::filesystem::is_regular_file(status)) {
+    throw ParameterError(path + ": is not a regular file (a device, FIFO or socket)");
+  }
+  if (std::filesystem::file_size(path, ec) > kMaxParameterFileBytes) {
+    throw ParameterError(path + ": larger than " + std::to_string(kMaxParameterFileBytes) +
+                         " bytes; a parameter file is a few kB");
+  }
+  std::ifstream file(path, std::ios::binary);
   if (!file) throw ParameterError(path + ": cannot open the parameter file");
-  std::ostringstream text;
-  text << file.rdbuf();
-  parse_parameter_text(text.str(), path, parameters);
+  std::string text(kMaxParameterFileBytes + 1, '\0');
+  file.read(text.data(), static_cast<std::streamsize>(text.size()));
+  if (file.bad()) throw ParameterError(path + ": cannot read the parameter file");
+  text.resize(static_cast<std::size_t>(file.gcount()));
+  if (text.size() > kMaxParameterFileBytes) {
+    throw ParameterError(path + ": larger than " + std::to_string(kMaxParameterFileBytes) +
+                         " bytes; a parameter file is a few kB");
+  }
+  parse_parameter_text(text, path, parameters);
 }
 
 }  // namespace roadcross::preprocess

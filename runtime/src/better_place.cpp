@@ -189,7 +189,8 @@ Result<BetterPlaces> Map::better_place(const Position& position,
       if (onward.size() > 1) {
         // Straight on is always allowed; a turn only towards the robot's own side (a side road
         // on the other side would have to be reached by crossing).
-        const auto turn = [&](std::size_t i) {
+        // (copies: clang 14 cannot capture structured bindings)
+        const auto turn = [&, node = node, heading = heading](std::size_t i) {
           return geo::angle_difference_rad(departure_yaw(local[i], local[i].from == node), heading);
         };
         const std::size_t straightest = *std::min_element(

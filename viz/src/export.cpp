@@ -13,8 +13,8 @@
 #include <memory>
 #include <stdexcept>
 
+#include "roadcross/files/atomic_file.hpp"
 #include "roadcross/geo.hpp"
-#include "roadcross/viz/output_file.hpp"
 
 namespace roadcross::viz {
 
@@ -134,16 +134,12 @@ ExportSummary write_geojson(const ExportOptions& options, const std::string& pat
 }  // namespace
 
 ExportSummary export_features(const ExportOptions& options) {
-  check_writable(options.output_path);
-  const std::string temp = temp_path_for(options.output_path);
+  files::AtomicFile output(options.output_path);
+  // GDAL's GeoJSON writer does not report a failed write (a full disk), so the text is made in
+  // memory and written here, where every write and the final flush are checked.
   ExportSummary summary;
-  try {
-    summary = write_geojson(options, temp);
-  } catch (...) {
-    VSIUnlink(temp.c_str());
-    throw;
-  }
-  commit_file(temp, options.output_path);
+  output.append(export_geojson_text(options, &summary));
+  output.commit();
   return summary;
 }
 

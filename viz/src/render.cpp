@@ -11,8 +11,8 @@
 #include <stdexcept>
 
 #include "hillshade.hpp"
+#include "roadcross/files/atomic_file.hpp"
 #include "roadcross/geo.hpp"
-#include "roadcross/viz/output_file.hpp"
 
 namespace roadcross::viz {
 
@@ -305,14 +305,14 @@ std::string write_world_file(const std::string& png_path, const Frame& f) {
   std::snprintf(text, sizeof text, "%.6f\n0\n0\n%.6f\n%.6f\n%.6f\n", f.metres_per_px,
                 -f.metres_per_px, f.area.min_e_m + f.metres_per_px / 2,
                 f.area.max_n_m - f.metres_per_px / 2);
-  write_file(path, text);
+  files::write_file_atomically(path, text);
   return path;
 }
 
 }  // namespace
 
 RenderSummary render_png(const RenderOptions& options) {
-  check_writable(options.output_path);
+  files::check_output_path(options.output_path);
   const MapLayers layers = load_layers(options.db_path, options.bbox);
   const Frame f = make_frame(layers.area, options.width_px);
   const Strip strip = strip_for(f);
@@ -342,12 +342,11 @@ RenderSummary render_png(const RenderOptions& options) {
   draw_attribution(cr.get(), f, strip, layers.info);
   cairo_surface_flush(surface.get());
 
-  const std::string temp = temp_path_for(options.output_path);
-  if (cairo_surface_write_to_png(surface.get(), temp.c_str()) != CAIRO_STATUS_SUCCESS) {
-    std::remove(temp.c_str());
+  files::AtomicFile png(options.output_path);
+  if (cairo_surface_write_to_png(surface.get(), png.temp_path().c_str()) != CAIRO_STATUS_SUCCESS) {
     throw std::runtime_error("cannot write " + options.output_path);
   }
-  commit_file(temp, options.output_path);
+  png.commit();
   summary.world_file = write_world_file(options.output_path, f);
   summary.width_px = f.width_px;
   summary.height_px = image_height_px;

@@ -4,18 +4,25 @@
 #include "roadcross/viz/view.hpp"
 
 #include <cairo.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 
 #include <filesystem>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string_view>
 #include <utility>
+#include <vector>
 
 #include "hillshade.hpp"
+#include "roadcross/files/atomic_file.hpp"
 #include "roadcross/schema/reasons.hpp"
 #include "roadcross/viz/colors.hpp"
 #include "roadcross/viz/export.hpp"
-#include "roadcross/viz/output_file.hpp"
 
 namespace roadcross::viz {
 
@@ -28,19 +35,73 @@ namespace {
 // Distance within which assess looks for a road (AssessOptions' default).
 constexpr double kMaxDistanceM = AssessOptions{}.max_distance_m;
 
-void prepare_folder(const std::string& dir) {
-  if (dir.empty()) throw std::runtime_error("no output folder given");
-  std::error_code ec;
-  if (std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec))
-    throw std::runtime_error("cannot write " + dir + ": it exists and is not a folder");
-  std::filesystem::create_directories(std::filesystem::path(dir) / "leaflet", ec);
-  if (ec) throw std::runtime_error("cannot create folder " + dir + ": " + ec.message());
-  check_writable((std::filesystem::path(dir) / "index.html").string());
-}
+/// The folders a view writes into, created when missing; the ones this run created are
+/// removed again if the view fails, so that a failure leaves no folder behind.
+class OutputFolder {
+ public:
+  explicit OutputFolder(const std::string& dir) {
+    if (dir.empty()) throw std::runtime_error("no output folder given (an empty name)");
+    create(dir);
+    create((std::filesystem::path(dir) / "leaflet").string());
+  }
+  OutputFolder(const OutputFolder&) = delete;
+  OutputFolder& operator=(const OutputFolder&) = delete;
+  ~OutputFolder() {
+    if (kept_) return;
+    for (auto it = created_.rbegin(); it != created_.rend(); ++it) ::rmdir(it->c_str());
+  }
+  void keep() { kept_ = true; }
+
+ private:
+  void create(const std::string& path) {
+    struct stat st {};
+    if (::lstat(path.c_str(), &st) == 0) {
+      if (!S_ISDIR(st.st_mode)) {
+        throw std::runtime_error("cannot write " + path + ": it exists and is not a folder");
+      }
+      return;
+    }
+    if (::mkdir(path.c_str(), 0777) != 0) {
+      throw std::runtime_error("cannot create folder " + path + ": " + std::strerror(errno));
+    }
+    created_.push_back(path);
+  }
+
+  std::vector<std::string> created_;
+  bool kept_ = false;
+};
+
+/// The view's files, each complete in a temporary file beside its target before any is renamed
+/// into place: a failure while writing (a full disk) leaves the folder as it was.
+class StagedFiles {
+ public:
+  explicit StagedFiles(std::filesystem::path dir) : dir_(std::move(dir)) {}
+
+  /// A new temporary file for `name` (relative to the folder) to be written by the caller.
+  files::AtomicFile& add(const std::string& name) {
+    staged_.push_back(std::make_unique<files::AtomicFile>((dir_ / name).string()));
+    names_.push_back(name);
+    return *staged_.back();
+  }
+  void add(const std::string& name, std::string_view bytes) { add(name).append(bytes); }
+
+  /// Renames every file into place once all are on disk; returns their names.
+  std::vector<std::string> commit() {
+    for (const auto& file : staged_) file->sync();
+    for (const auto& file : staged_) file->commit();
+    return names_;
+  }
+
+ private:
+  std::filesystem::path dir_;
+  std::vector<std::unique_ptr<files::AtomicFile>> staged_;
+  std::vector<std::string> names_;
+};
 
 // Writes the hillshade, in Web Mercator as Leaflet draws it, to DIR/hillshade.png; its WGS84
 // bounds for L.imageOverlay, or null when the DB holds no terrain.
-nlohmann::ordered_json write_hillshade(const ViewOptions& options, const MapLayers& layers) {
+nlohmann::ordered_json write_hillshade(const ViewOptions& options, const MapLayers& layers,
+                                       StagedFiles& staged) {
   constexpr int kMaxWidthPx = 2000;
   if (!layers.has_terrain) return nullptr;
   std::optional<MercatorShade> shade =
@@ -50,12 +111,13 @@ nlohmann::ordered_json write_hillshade(const ViewOptions& options, const MapLaye
   cairo_surface_t* surface = cairo_image_surface_create_for_data(
       reinterpret_cast<unsigned char*>(image.argb.data()), CAIRO_FORMAT_ARGB32, image.width,
       image.height, image.width * 4);
-  const std::string path = (std::filesystem::path(options.output_dir) / "hillshade.png").string();
-  const std::string temp = temp_path_for(path);
-  const cairo_status_t status = cairo_surface_write_to_png(surface, temp.c_str());
+  files::AtomicFile& png = staged.add("hillshade.png");
+  const cairo_status_t status = cairo_surface_write_to_png(surface, png.temp_path().c_str());
   cairo_surface_destroy(surface);
-  if (status != CAIRO_STATUS_SUCCESS) throw std::runtime_error("cannot write " + path);
-  commit_file(temp, path);
+  if (status != CAIRO_STATUS_SUCCESS) {
+    throw std::runtime_error("cannot write " + png.target_path() + ": " +
+                             cairo_status_to_string(status));
+  }
   return {
       {"file", "hillshade.png"},
       {"bounds",
@@ -95,18 +157,16 @@ std::string data_script(const ViewOptions& options, const MapLayers& layers,
 ViewSummary write_view(const ViewOptions& options) {
   // Read (and check the bbox) first: a failure leaves no empty folder behind.
   const MapLayers layers = load_layers(options.db_path, options.bbox);
-  prepare_folder(options.output_dir);
-  const std::filesystem::path dir(options.output_dir);
-  ViewSummary summary;
+  OutputFolder folder(options.output_dir);
+  StagedFiles staged{std::filesystem::path(options.output_dir)};
   for (const auto& [name, bytes] : assets::embedded_files()) {
-    const std::string target = name == "view.html" ? "index.html" : std::string(name);
-    write_file((dir / target).string(), bytes);
-    summary.files.push_back(target);
+    staged.add(name == "view.html" ? "index.html" : std::string(name), bytes);
   }
-  const nlohmann::ordered_json hillshade = write_hillshade(options, layers);
-  if (!hillshade.is_null()) summary.files.emplace_back("hillshade.png");
-  write_file((dir / "data.js").string(), data_script(options, layers, hillshade));
-  summary.files.emplace_back("data.js");
+  const nlohmann::ordered_json hillshade = write_hillshade(options, layers, staged);
+  staged.add("data.js", data_script(options, layers, hillshade));
+  ViewSummary summary;
+  summary.files = staged.commit();
+  folder.keep();
   summary.segments = layers.segments.size();
   summary.crossings = layers.crossings.size();
   return summary;

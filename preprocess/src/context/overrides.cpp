@@ -2,9 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <filesystem>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <string_view>
 
 #include "roadcross/preprocess/common/errors.hpp"
 
@@ -79,11 +83,30 @@ void parse_geometry(const json& geometry, Override& out, const std::string& name
 }
 
 std::int64_t way_id(const json& value, const std::string& name, std::size_t feature) {
-  if (!value.is_number_integer() || value.get<std::int64_t>() <= 0) {
+  if (!value.is_number_integer() ||
+      (value.is_number_unsigned() &&
+       value.get<std::uint64_t>() > std::uint64_t(std::numeric_limits<std::int64_t>::max())) ||
+      value.get<std::int64_t>() <= 0) {
     fail(name, feature,
          "osm_way_id must be a positive integer or an array of them, got " + value.dump());
   }
   return value.get<std::int64_t>();
+}
+
+/// context_delta: an integer in [-kMaxContextDelta, kMaxContextDelta]. (JSON's unsigned
+/// integers above INT64_MAX must not wrap: 2^64 - 1 is not -1.)
+int context_delta(const json& value, const std::string& name, std::size_t feature) {
+  const bool in_range =
+      (value.is_number_unsigned() && value.get<std::uint64_t>() <= kMaxContextDelta) ||
+      (value.is_number_integer() && !value.is_number_unsigned() &&
+       value.get<std::int64_t>() >= -kMaxContextDelta &&
+       value.get<std::int64_t>() <= kMaxContextDelta);
+  if (!in_range) {
+    fail(name, feature,
+         "context_delta must be an integer in [-" + std::to_string(kMaxContextDelta) + ", " +
+             std::to_string(kMaxContextDelta) + "], got " + value.dump());
+  }
+  return static_cast<int>(value.get<std::int64_t>());
 }
 
 bool true_or_false(const json& value, const char* key, const std::string& name, std::size_t f) {
@@ -105,10 +128,7 @@ void parse_properties(const json& properties, Override& out, const std::string& 
         out.osm_way_ids.push_back(way_id(value, name, f));
       }
     } else if (key == "context_delta") {
-      if (!value.is_number_integer() || std::abs(value.get<std::int64_t>()) > 1000) {
-        fail(name, f, "context_delta must be an integer in [-1000, 1000], got " + value.dump());
-      }
-      out.context_delta = value.get<int>();
+      out.context_delta = context_delta(value, name, f);
     } else if (key == "no_crossing") {
       out.no_crossing = true_or_false(value, "no_crossing", name, f);
     } else if (key == "force_suitable") {
@@ -116,6 +136,11 @@ void parse_properties(const json& properties, Override& out, const std::string& 
     } else if (key == "note") {
       if (!value.is_string()) fail(name, f, "note must be a string, got " + value.dump());
       out.note = value.get<std::string>();
+      if (out.note.size() > kMaxOverrideNoteBytes) {
+        fail(name, f,
+             "note is " + std::to_string(out.note.size()) + " bytes long; at most " +
+                 std::to_string(kMaxOverrideNoteBytes) + " (it is stored on every segment)");
+      }
     } else {
       fail(name, f,
            "unknown property \"" + key +
@@ -126,6 +151,7 @@ void parse_properties(const json& properties, Override& out, const std::string& 
 
 Override parse_feature(const json& feature, std::size_t index, const std::string& name) {
   Override out;
+  out.source = name;
   out.feature_index = index;
   if (!feature.is_object() || feature.value("type", json()) != "Feature") {
     fail(name, index, "not a GeoJSON Feature (\"type\": \"Feature\")");
@@ -180,15 +206,32 @@ bool edges_cross(PlanePoint p1, PlanePoint p2, PlanePoint q1, PlanePoint q2) {
          ((d3 >= 0) != (d4 >= 0) || d3 == 0 || d4 == 0) && !(d1 == 0 && d2 == 0 && d3 == 0);
 }
 
+/// `earlier; note`, at most kMaxSegmentNoteBytes (cut at a UTF-8 character boundary).
+std::string joined_note(const std::string* earlier, const std::string& note) {
+  std::string joined = earlier ? *earlier + "; " + note : note;
+  if (joined.size() <= kMaxSegmentNoteBytes) return joined;
+  constexpr std::string_view kEllipsis = "...";
+  std::size_t cut = kMaxSegmentNoteBytes - kEllipsis.size();
+  while (cut > 0 && (static_cast<unsigned char>(joined[cut]) & 0xC0) == 0x80) --cut;
+  joined.resize(cut);
+  return joined + std::string(kEllipsis);
+}
+
 void apply_one(RoadGraph& graph, Segment& s, const Override& o) {
-  if (s.context_score) s.context_score = *s.context_score + o.context_delta;
+  if (s.context_score) {
+    // Summed in 64 bits and clamped: thousands of overlapping features must not overflow int
+    // (undefined behaviour), here or where a reader adds the score to it.
+    const std::int64_t sum = std::int64_t{*s.context_score} + o.context_delta;
+    s.context_score =
+        static_cast<int>(std::clamp<std::int64_t>(sum, -kMaxContextScore, kMaxContextScore));
+  }
   if (o.no_crossing) {
     s.override_no_crossing = true;
     s.reasons.add("OVERRIDE");
   }
   if (o.force_suitable) s.override_force_suitable = true;
   const std::string* note = graph.override_note(s);
-  graph.set_override_note(s, graph.text.intern(note ? *note + "; " + o.note : o.note));
+  graph.set_override_note(s, graph.text.intern(joined_note(note, o.note)));
 }
 
 }  // namespace
@@ -212,7 +255,18 @@ std::vector<Override> parse_overrides(const std::string& text, const std::string
 }
 
 std::vector<Override> read_overrides(const std::string& path) {
-  std::ifstream file(path);
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (ec || !std::filesystem::is_regular_file(status)) {
+    throw InputError(path, std::filesystem::is_directory(status)
+                               ? "is a folder, not an overrides file"
+                               : "cannot open the overrides file (not a regular file)");
+  }
+  if (std::filesystem::file_size(path, ec) > kMaxOverridesFileBytes) {
+    throw InputError(path, "larger than " + std::to_string(kMaxOverridesFileBytes >> 20) +
+                               " MiB; an overrides file is a list of polygons and notes");
+  }
+  std::ifstream file(path, std::ios::binary);
   if (!file) throw InputError(path, "cannot open the overrides file");
   std::stringstream text;
   text << file.rdbuf();
@@ -242,7 +296,12 @@ std::vector<std::uint64_t> apply_overrides(RoadGraph& graph,
     std::vector<std::vector<std::vector<PlanePoint>>> polygons;
     std::vector<schema::Envelope> boxes;
     for (const LonLatPolygon& polygon : o.polygons) {
-      polygons.push_back(project_rings(polygon, graph.zone));
+      try {
+        polygons.push_back(project_rings(polygon, graph.zone));
+      } catch (const std::invalid_argument& e) {
+        fail(o.source, o.feature_index,
+             std::string("polygon outside the map's UTM zone: ") + e.what());
+      }
       boxes.push_back(schema::envelope_of(polygons.back().front()));
     }
     for (Segment& s : graph.segments) {

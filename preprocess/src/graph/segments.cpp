@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <set>
 #include <stdexcept>
 #include <string>
 
@@ -101,10 +102,23 @@ class ProjectedNodes {
   std::vector<PlanePoint> points_;
 };
 
-/// Splits a way's node list into runs of located nodes, dropping consecutive duplicates.
+/// Whether a node list visits some node twice (a ring, a loop, a retrace).
+bool revisits_a_node(const std::vector<std::int64_t>& ids) {
+  thread_local std::vector<std::int64_t> sorted;  // reused: most ways are a dozen nodes
+  sorted.assign(ids.begin(), ids.end());
+  std::sort(sorted.begin(), sorted.end());
+  return std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end();
+}
+
+/// Splits a way's node list into runs of located nodes, dropping consecutive duplicates and
+/// every edge the way already drew (a way that goes back and forth between two nodes draws one
+/// road, not 100 000 parallel pieces meeting at two nodes, which would make every walk along the
+/// network, e.g. the sight stage's, quadratic).
 std::vector<NodeRun> located_runs(const RoadWay& way, const ProjectedNodes& projected,
                                   std::uint64_t& dropped_refs) {
   std::vector<NodeRun> runs(1);
+  const bool check_retrace = revisits_a_node(way.node_ids);
+  std::set<std::pair<std::int64_t, std::int64_t>> drawn;  // edges as (smaller, larger) node id
   for (std::int64_t id : way.node_ids) {
     const PlanePoint* point = projected.find(id);
     if (!point) {
@@ -112,8 +126,14 @@ std::vector<NodeRun> located_runs(const RoadWay& way, const ProjectedNodes& proj
       if (!runs.back().ids.empty()) runs.emplace_back();
       continue;
     }
+    if (!runs.back().ids.empty() && runs.back().ids.back() == id) continue;
+    if (check_retrace && !runs.back().ids.empty()) {
+      const std::int64_t from = runs.back().ids.back();
+      if (!drawn.insert({std::min(from, id), std::max(from, id)}).second) {
+        runs.emplace_back();  // an edge drawn before: the run ends, the next starts here
+      }
+    }
     NodeRun& run = runs.back();
-    if (!run.ids.empty() && run.ids.back() == id) continue;
     run.ids.push_back(id);
     run.points.push_back(*point);
   }

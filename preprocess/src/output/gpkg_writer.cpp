@@ -1,22 +1,16 @@
 #include "roadcross/preprocess/output/gpkg_writer.hpp"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <atomic>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <future>
 #include <limits>
 #include <memory>
 #include <optional>
-#include <random>
 #include <stdexcept>
 
+#include "roadcross/files/atomic_file.hpp"
 #include "roadcross/preprocess/common/errors.hpp"
 #include "roadcross/preprocess/common/interrupt.hpp"
 #include "roadcross/preprocess/common/progress.hpp"
@@ -28,52 +22,32 @@
 
 namespace roadcross::preprocess {
 
-AtomicOutput::AtomicOutput(std::string target) : target_(std::move(target)) {
-  // Not mkstemp: the interrupt handler must know the name before the file exists (a signal
-  // between creating and registering it would leave a file behind), so the name is chosen and
-  // registered first, then created exclusively.
-  std::random_device entropy;
-  constexpr char kLetters[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789";
-  for (int attempt = 0; attempt < 100; ++attempt) {
-    std::string candidate = target_ + ".tmp-";
-    for (int i = 0; i < 6; ++i) candidate += kLetters[entropy() % (sizeof kLetters - 1)];
-    set_interrupt_cleanup_path(candidate.c_str());
-    const int fd = ::open(candidate.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
-    if (fd >= 0) {
-      ::close(fd);
-      temp_path_ = std::move(candidate);
-      return;
-    }
-    set_interrupt_cleanup_path(nullptr);
-    if (errno != EEXIST) {
-      throw OutputError(target_ + ": cannot create the output (temporary file " + candidate +
-                        "): " + std::strerror(errno));
-    }
+namespace {
+
+/// files::AtomicFile throws std::runtime_error; the build reports output failures as OutputError.
+template <typename Action>
+auto as_output_error(Action&& action) {
+  try {
+    return action();
+  } catch (const std::runtime_error& e) {
+    throw OutputError(e.what());
   }
-  throw OutputError(target_ + ": cannot create the output: 100 temporary names taken");
 }
 
-AtomicOutput::~AtomicOutput() {
-  if (!committed_) {
-    std::remove(temp_path_.c_str());
-    std::remove((temp_path_ + "-journal").c_str());
-    std::remove((temp_path_ + kSideRowsSuffix).c_str());
-  }
-  // Only now: a signal before this line removes what is already gone, which is harmless.
-  set_interrupt_cleanup_path(nullptr);
+}  // namespace
+
+AtomicOutput::AtomicOutput(const std::string& target)
+    : file_(as_output_error([&] {
+        return std::make_unique<files::AtomicFile>(target, set_interrupt_cleanup_path);
+      })) {
+  file_->remove_also("-journal");
+  file_->remove_also(kSideRowsSuffix);
 }
+
+AtomicOutput::~AtomicOutput() = default;
 
 void AtomicOutput::commit() {
-  // mkstemp creates 0600; a map is meant to be shared like any other output file.
-  const mode_t mask = ::umask(0);
-  ::umask(mask);
-  ::chmod(temp_path_.c_str(), 0666 & ~mask);
-  if (std::rename(temp_path_.c_str(), target_.c_str()) != 0) {
-    throw OutputError(target_ +
-                      ": cannot move the finished output into place: " + std::strerror(errno));
-  }
-  committed_ = true;
-  set_interrupt_cleanup_path(nullptr);
+  as_output_error([&] { file_->commit(); });
 }
 
 namespace {

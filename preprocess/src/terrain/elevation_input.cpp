@@ -19,9 +19,6 @@ namespace roadcross::preprocess {
 
 namespace {
 
-constexpr double kMinAltitudeM = -500.0;  // below the Dead Sea shore: a garbage number
-constexpr double kMaxAltitudeM = 9000.0;  // above Everest
-
 bool is_separator(char c) {
   return c == ' ' || c == '\t' || c == ',' || c == ';';
 }

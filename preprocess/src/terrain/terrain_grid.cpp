@@ -14,6 +14,8 @@
 #include <utility>
 
 #include "roadcross/preprocess/common/errors.hpp"
+#include "roadcross/preprocess/common/parameter_spec.hpp"
+#include "roadcross/preprocess/terrain/elevation_input.hpp"
 
 namespace roadcross::preprocess {
 
@@ -249,7 +251,18 @@ struct RasterElevation::Impl {
   double nodata = 0.0;
   double scale = 1.0, offset = 0.0;  ///< 1 and 0 when the band has none
 
-  /// The window's pixels as elevations in metres (NaN: nodata).
+  [[noreturn]] void out_of_range(const PixelWindow& w, std::ptrdiff_t index, float value_m) const {
+    const long long col = w.x0 + index % w.width(), row = w.y0 + index / w.width();
+    throw InputError(path, "pixel (column " + std::to_string(col) + ", row " + std::to_string(row) +
+                               ") holds an altitude of " + format_number(value_m) +
+                               " m, outside [" + format_number(kMinAltitudeM) + ", " +
+                               format_number(kMaxAltitudeM) +
+                               "] m: a damaged raster, or its nodata value, scale or data type "
+                               "is not set");
+  }
+
+  /// The window's pixels as elevations in metres (NaN: nodata); throws InputError at an
+  /// altitude outside [kMinAltitudeM, kMaxAltitudeM].
   std::vector<float> read(const PixelWindow& w) const {
     std::vector<float> pixels(static_cast<std::size_t>(w.width()) * w.height());
     if (band->RasterIO(GF_Read, w.x0, w.y0, w.width(), w.height(), pixels.data(), w.width(),
@@ -263,6 +276,7 @@ struct RasterElevation::Impl {
         v = std::numeric_limits<float>::quiet_NaN();
       } else {
         v = static_cast<float>(v * scale + offset);
+        if (!(v >= kMinAltitudeM && v <= kMaxAltitudeM)) out_of_range(w, &v - pixels.data(), v);
       }
     }
     return pixels;

@@ -11,6 +11,7 @@
 // value" outside a section (a TOML dotted key) and ';' comments (INI).
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <string_view>
 
@@ -27,7 +28,11 @@ std::string format_parameter_file(const Parameters& parameters);
 /// that are none of the above.
 void parse_parameter_text(std::string_view text, const std::string& name, Parameters& parameters);
 
-/// Reads a parameter file; throws ParameterError if it cannot be read or is invalid.
+/// The largest parameter file read, bytes (every parameter with a comment is ~10 kB).
+inline constexpr std::size_t kMaxParameterFileBytes = 1 << 20;
+
+/// Reads a parameter file; throws ParameterError naming the file if it is not a regular file,
+/// is larger than kMaxParameterFileBytes, cannot be read or is invalid.
 void read_parameter_file(const std::string& path, Parameters& parameters);
 
 }  // namespace roadcross::preprocess

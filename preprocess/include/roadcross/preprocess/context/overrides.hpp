@@ -24,11 +24,26 @@ namespace roadcross::preprocess {
 using LonLatRing = std::vector<geo::LatLon>;
 using LonLatPolygon = std::vector<LonLatRing>;
 
+/// The longest note of one feature, bytes: a note says why, in a sentence; it is stored on every
+/// segment the feature touches.
+inline constexpr std::size_t kMaxOverrideNoteBytes = 500;
+/// The longest override_note of one segment, bytes (the notes of all features touching it,
+/// joined by "; "): longer is cut at a character boundary and ends in "...".
+inline constexpr std::size_t kMaxSegmentNoteBytes = 2000;
+/// The largest overrides file read, bytes.
+inline constexpr std::size_t kMaxOverridesFileBytes = 64u << 20;
+/// context_delta's range, points of the context score.
+inline constexpr int kMaxContextDelta = 1000;
+/// The context score after overrides is clamped to [-kMaxContextScore, kMaxContextScore], points
+/// (far from int's limits, so that score + context_score cannot overflow either).
+inline constexpr int kMaxContextScore = 1000000;
+
 struct Override {
+  std::string source;             ///< the file (or name) it was read from, for errors
   std::size_t feature_index = 0;  ///< position in the file's "features" array, from 0
   std::vector<LonLatPolygon> polygons;
   std::vector<std::int64_t> osm_way_ids;
-  int context_delta = 0;
+  int context_delta = 0;  ///< in [-kMaxContextDelta, kMaxContextDelta]
   bool no_crossing = false;
   bool force_suitable = false;
   std::string note;  ///< the given note, or "override feature N"
@@ -38,7 +53,7 @@ struct Override {
 /// described above (unknown properties, wrong types, open or degenerate rings, ...).
 std::vector<Override> parse_overrides(const std::string& text, const std::string& name);
 
-/// Reads and parses a GeoJSON file.
+/// Reads and parses a GeoJSON file (a regular file of at most kMaxOverridesFileBytes).
 std::vector<Override> read_overrides(const std::string& path);
 
 /// Does the segment polyline (UTM) touch the polygon (UTM rings, even-odd fill)?

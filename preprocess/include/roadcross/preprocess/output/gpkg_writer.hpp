@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "roadcross/files/atomic_file.hpp"
 #include "roadcross/preprocess/context/crossings.hpp"
 #include "roadcross/preprocess/graph/segments.hpp"
 
@@ -31,25 +32,24 @@ struct DatabaseContents {
   std::string last_change = "1970-01-01T00:00:00.000Z";
 };
 
-/// A temporary output file that is removed unless committed.
+/// The build's temporary output (files::AtomicFile, with SQLite's "-journal" and the writer's
+/// "-rows" side file), registered with the interrupt handlers; removed unless committed.
 class AtomicOutput {
  public:
-  /// Creates `<target>.tmp-XXXXXX` beside `target`; throws OutputError if the directory is not
-  /// writable.
-  explicit AtomicOutput(std::string target);
+  /// Creates `<target>.tmp-XXXXXX` beside `target`; throws OutputError naming the target if the
+  /// folder is not writable or something other than a regular file is at the target.
+  explicit AtomicOutput(const std::string& target);
   AtomicOutput(const AtomicOutput&) = delete;
   AtomicOutput& operator=(const AtomicOutput&) = delete;
   ~AtomicOutput();
 
-  const std::string& temp_path() const noexcept { return temp_path_; }
-  const std::string& target_path() const noexcept { return target_; }
-  /// Renames the temporary file onto the target (atomic on POSIX file systems).
+  const std::string& temp_path() const noexcept { return file_->temp_path(); }
+  const std::string& target_path() const noexcept { return file_->target_path(); }
+  /// Flushes and renames the temporary file onto the target (atomic on POSIX file systems).
   void commit();
 
  private:
-  std::string target_;
-  std::string temp_path_;
-  bool committed_ = false;
+  std::unique_ptr<files::AtomicFile> file_;
 };
 
 /// Writes a roadcross GeoPackage in steps, so that the segments' spatial index (which needs

@@ -13,6 +13,12 @@
 
 namespace roadcross::preprocess {
 
+/// The altitudes an elevation input may hold, metres: below the Dead Sea shore (-430 m) or
+/// above Everest is a damaged or misread file (random bytes, a wrong data type, a scale
+/// missing), not terrain. Both XYZ points and raster pixels are checked.
+inline constexpr double kMinAltitudeM = -500.0;
+inline constexpr double kMaxAltitudeM = 9000.0;
+
 struct ElevationPoint {
   double x = 0.0;  ///< easting (or longitude for a geographic CRS), in the file's CRS
   double y = 0.0;  ///< northing (or latitude)
