@@ -78,7 +78,7 @@ int BatchCommand::run() {
     nlohmann::ordered_json numbered;
     numbered["line"] = number;
     for (auto& [key, value] : out.items()) numbered[key] = value;
-    std::cout << numbered.dump() << "\n";
+    std::cout << json_text(numbered) << "\n";
   }
   return failures == 0 ? 0 : 3;  // 3: the batch ran, but some requests failed (see their lines)
 }

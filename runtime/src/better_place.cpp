@@ -29,7 +29,7 @@ std::vector<LocalSegment> load_neighbourhood(sqlite::Database& db, schema::Plane
   sqlite::Statement query = db.prepare(
       "SELECT s.fid, s.from_node_id, s.to_node_id, s.length_m, s.geom, s.score, s.context_score, "
       "s.reasons, s.tunnel, s.override_no_crossing, s.override_force_suitable, "
-      "s.crossing_distance_m FROM " +
+      "s.crossing_distance_m, r.minx, r.maxx, r.miny, r.maxy FROM " +
       std::string(schema::kSegmentsRtree) + " r JOIN " + std::string(schema::kSegmentsTable) +
       " s ON s.fid = r.id WHERE r.maxx >= ?1 AND r.minx <= ?2 AND r.maxy >= ?3 AND r.miny <= ?4");
   query.bind(1, p.x - radius_m);
@@ -43,11 +43,26 @@ std::vector<LocalSegment> load_neighbourhood(sqlite::Database& db, schema::Plane
     s.from = query.column_int64(1);
     s.to = query.column_int64(2);
     s.length_m = query.column_double(3);
-    if (!schema::decode_linestring(query.column_blob(4), s.points)) continue;
+    // The walk below is a Dijkstra search: a negative length would make it loop for ever.
+    if (!(std::isfinite(s.length_m) && s.length_m >= 0.0)) {
+      throw detail::corrupt_segment_error(
+          detail::segment_problem(s.id, "length_m must be a finite number >= 0"));
+    }
+    if (!schema::decode_linestring(query.column_blob(4), s.points)) {
+      throw detail::corrupt_segment_error(detail::segment_problem(s.id, "malformed geometry"));
+    }
+    detail::check_in_box(s.id, s.points, query.column_double(12), query.column_double(13),
+                         query.column_double(14), query.column_double(15));
     s.has_score = !query.column_is_null(5);
-    s.score = static_cast<int>(query.column_int64(5));
-    s.context = static_cast<int>(query.column_int64(6));
-    s.reasons = query.column_text(7);
+    const std::int64_t score = query.column_int64(5), context = query.column_int64(6);
+    // The ranges assess checks (score 1..15, |context| <= 1e6): their sum fits an int.
+    if ((s.has_score && (score < 1 || score > 15)) || context < -1000000 || context > 1000000) {
+      throw detail::corrupt_segment_error(
+          detail::segment_problem(s.id, "score or context_score out of range"));
+    }
+    s.score = static_cast<int>(score);
+    s.context = static_cast<int>(context);
+    s.reasons = detail::valid_utf8(query.column_text_view(7));
     s.tunnel = query.column_int64(8) != 0;
     s.no_crossing = query.column_int64(9) != 0;
     s.force_suitable = query.column_int64(10) != 0;
@@ -98,12 +113,14 @@ struct Reached {
 
 Result<BetterPlaces> Map::better_place(const Position& position,
                                        const BetterPlaceOptions& options) noexcept {
-  if (!(options.search_radius_m > 0.0)) {
-    return Result<BetterPlaces>{Status{StatusCode::invalid_argument, "search_radius_m must be > 0"},
-                                std::nullopt};
+  if (!(options.search_radius_m > 0.0 && options.search_radius_m <= detail::kMaxWalkingRadiusM)) {
+    return Result<BetterPlaces>{
+        Status{StatusCode::invalid_argument, "search_radius_m must be in (0, 10000] metres"},
+        std::nullopt};
   }
   Result<Assessment> here = assess(position, options.assess);
   if (!here.ok()) return Result<BetterPlaces>{here.status, std::nullopt};
+  impl_->budget->restart();
   try {
     const schema::PlanePoint robot{here->road.query.easting_m, here->road.query.northing_m};
     std::vector<LocalSegment> local =
@@ -254,8 +271,7 @@ Result<BetterPlaces> Map::better_place(const Position& position,
     }
     return Result<BetterPlaces>{Status{}, std::move(result)};
   } catch (const std::exception& e) {
-    return Result<BetterPlaces>{
-        Status{StatusCode::corrupt_database, impl_->info.path + ": " + e.what()}, std::nullopt};
+    return Result<BetterPlaces>{detail::status_of(e, impl_->info.path), std::nullopt};
   }
 }
 
