@@ -7,39 +7,59 @@
 #include <string_view>
 
 #include "map_impl.hpp"
+#include "roadcross/schema/reasons.hpp"
 
 namespace roadcross {
 namespace detail {
 
-namespace {
-// Columns read by assess, in this order (see schema/src/schema.cpp for meanings and units):
-// the segment's identity (as nearest() reads it), then its cost terms.
-constexpr const char* kAssessColumns =
-    "osm_way_id, highway, name, length_m, class_cost, junction_distance_m, radius_m, "
-    "curvature_level, curvature_cost, elevation_cost, "
-    "landform, maxspeed_kmh, lanes, width_m, context_score, crossing_distance_m, rank, score, "
-    "reasons, tunnel, override_note, override_no_crossing, override_force_suitable";
-// Schema version 2 added these; a version 1 DB reads NULLs in their place.
-constexpr const char* kSightColumns =
-    ", sight_forward_m, sight_backward_m, sight_min_m, required_sight_m";
-constexpr const char* kNoSightColumns = ", NULL, NULL, NULL, NULL";
-}  // namespace
+using C = schema::SegmentColumn;
 
-Queries::Queries(sqlite::Database& db, bool has_sight)
+// What assess reads of a segment: its identity (as nearest() reads it), then its cost terms.
+const schema::SegmentSelection kAssessColumns = {C::osm_way_id,
+                                                 C::highway,
+                                                 C::name,
+                                                 C::length_m,
+                                                 C::class_cost,
+                                                 C::junction_distance_m,
+                                                 C::radius_m,
+                                                 C::curvature_level,
+                                                 C::curvature_cost,
+                                                 C::elevation_cost,
+                                                 C::landform,
+                                                 C::maxspeed_kmh,
+                                                 C::lanes,
+                                                 C::width_m,
+                                                 C::context_score,
+                                                 C::crossing_distance_m,
+                                                 C::rank,
+                                                 C::score,
+                                                 C::reasons,
+                                                 C::tunnel,
+                                                 C::override_note,
+                                                 C::override_no_crossing,
+                                                 C::override_force_suitable,
+                                                 C::sight_forward_m,
+                                                 C::sight_backward_m,
+                                                 C::sight_min_m,
+                                                 C::required_sight_m};
+
+const schema::SegmentSelection kIdentityColumns = {C::osm_way_id, C::highway, C::name, C::length_m};
+const schema::SegmentSelection kEndNodeColumns({C::from_node_id, C::to_node_id}, 2);
+
+Queries::Queries(sqlite::Database& db, int schema_version)
     : candidates(db.prepare("SELECT s.fid, s.geom, r.minx, r.maxx, r.miny, r.maxy FROM " +
                             std::string(schema::kSegmentsRtree) + " r JOIN " +
                             std::string(schema::kSegmentsTable) +
                             " s ON s.fid = r.id WHERE r.maxx >= ?1 AND r.minx <= ?2 AND "
                             "r.maxy >= ?3 AND r.miny <= ?4")),
-      attributes(db.prepare("SELECT osm_way_id, highway, name, length_m FROM " +
+      attributes(db.prepare("SELECT " + kIdentityColumns.sql("", schema_version) + " FROM " +
                             std::string(schema::kSegmentsTable) + " WHERE fid = ?1")),
-      assessment(db.prepare(std::string("SELECT ") + kAssessColumns +
-                            (has_sight ? kSightColumns : kNoSightColumns) + " FROM " +
+      assessment(db.prepare("SELECT " + kAssessColumns.sql("", schema_version) + " FROM " +
                             std::string(schema::kSegmentsTable) + " WHERE fid = ?1")),
       rtree_holder(
           db.prepare("SELECT id FROM " + std::string(schema::kSegmentsRtree) + " LIMIT 1")),
-      segments_at(db.prepare("SELECT s.fid, s.from_node_id, s.to_node_id, s.geom, r.minx, "
-                             "r.maxx, r.miny, r.maxy FROM " +
+      segments_at(db.prepare("SELECT s.fid, s.geom, " + kEndNodeColumns.sql("s", schema_version) +
+                             ", r.minx, r.maxx, r.miny, r.maxy FROM " +
                              std::string(schema::kSegmentsRtree) + " r JOIN " +
                              std::string(schema::kSegmentsTable) +
                              " s ON s.fid = r.id WHERE r.maxx >= ?1 AND r.minx <= ?2 AND "
@@ -88,30 +108,24 @@ Status check_assess_options(const AssessOptions& options) {
 }  // namespace detail
 
 const char* describe_reason(const std::string& code) noexcept {
-  if (code == "TOO_FAR_FROM_ROAD") return "too far from the road centreline to be at the kerb";
-  if (code == "NEAR_JUNCTION")
-    return "close to a junction, where traffic turns in from several sides";
-  if (code == "SHARP_BEND") return "the road bends sharply here: approaching cars are seen late";
-  if (code == "CREST_OR_DIP") return "a crest or dip hides approaching cars";
-  if (code == "BUSY_ROAD") return "a fast, wide or busy road";
-  if (code == "NOT_CROSSABLE_CLASS") return "a motorway or trunk road: never crossed on foot";
-  if (code == "TUNNEL") return "in a tunnel or under a cover";
-  if (code == "NO_ELEVATION") return "no elevation data here: crests and dips are unknown";
-  if (code == "LOW_SCORE") return "score + context score is below the suitability threshold";
-  if (code == "OVERRIDE") return "an operator override applies";
-  if (code == "LIMITED_VISIBILITY")
-    return "the view along the road is shorter than a crossing needs";
-  return "see docs/cost-model.md";
+  const schema::ReasonSpec* spec = schema::find_reason(code);
+  // The sentences are literals: their views end in a NUL.
+  return spec ? spec->sentence.data() : "see docs/cost-model.md";
 }
 
 namespace {
 
-std::optional<int> optional_int(const sqlite::Statement& row, int i) {
+using C = schema::SegmentColumn;
+using detail::kAssessColumns;
+
+std::optional<int> optional_int(const sqlite::Statement& row, schema::SegmentColumn column) {
+  const int i = kAssessColumns[column];
   if (row.column_is_null(i)) return std::nullopt;
   return static_cast<int>(row.column_int64(i));
 }
 
-std::optional<double> optional_double(const sqlite::Statement& row, int i) {
+std::optional<double> optional_double(const sqlite::Statement& row, schema::SegmentColumn column) {
+  const int i = kAssessColumns[column];
   if (row.column_is_null(i)) return std::nullopt;
   return row.column_double(i);
 }
@@ -132,101 +146,58 @@ bool has(const std::vector<std::string>& codes, std::string_view code) {
   return std::find(codes.begin(), codes.end(), code) != codes.end();
 }
 
-// Columns of the `assessment` statement (kAssessColumns, then the sight columns).
-enum AssessColumn : int {
-  kOsmWayId,
-  kHighway,
-  kName,
-  kLengthM,
-  kClassCost,
-  kJunctionDistanceM,
-  kRadiusM,
-  kCurvatureLevel,
-  kCurvatureCost,
-  kElevationCost,
-  kLandform,
-  kMaxspeedKmh,
-  kLanes,
-  kWidthM,
-  kContextScore,
-  kCrossingDistanceM,
-  kRank,
-  kScore,
-  kReasons,
-  kTunnel,
-  kOverrideNote,
-  kNoCrossing,
-  kForceSuitable,
-  kSightForwardM,
-  kSightBackwardM,
-  kSightMinM,
-  kRequiredSightM,
-};
-
 /// Integer columns and the values roadcross-build writes (docs/cost-model.md; the flags are 0
 /// or 1). context_score's bound is far beyond any parameter file's, and keeps score +
 /// context_score inside int.
 struct IntColumn {
-  int column;
+  schema::SegmentColumn column;
   const char* name;
   std::int64_t min, max;
   bool nullable;
 };
-constexpr IntColumn kIntColumns[] = {
-    {kOsmWayId, "osm_way_id", INT64_MIN, INT64_MAX, false},
-    {kClassCost, "class_cost", 0, 5, true},
-    {kCurvatureLevel, "curvature_level", 0, 5, true},
-    {kCurvatureCost, "curvature_cost", 0, 14, true},
-    {kElevationCost, "elevation_cost", 0, 9, true},
-    {kLanes, "lanes", 0, 1000, true},
-    {kContextScore, "context_score", -1000000, 1000000, true},
-    {kRank, "rank", 0, 14, true},
-    {kScore, "score", 1, 15, true},
-    {kTunnel, "tunnel", 0, 1, false},
-    {kNoCrossing, "override_no_crossing", 0, 1, false},
-    {kForceSuitable, "override_force_suitable", 0, 1, false},
+const IntColumn kIntColumns[] = {
+    {C::osm_way_id, "osm_way_id", INT64_MIN, INT64_MAX, false},
+    {C::class_cost, "class_cost", 0, 5, true},
+    {C::curvature_level, "curvature_level", 0, 5, true},
+    {C::curvature_cost, "curvature_cost", 0, 14, true},
+    {C::elevation_cost, "elevation_cost", 0, 9, true},
+    {C::lanes, "lanes", 0, 1000, true},
+    {C::context_score, "context_score", -1000000, 1000000, true},
+    {C::rank, "rank", 0, 14, true},
+    {C::score, "score", 1, 15, true},
+    {C::tunnel, "tunnel", 0, 1, false},
+    {C::override_no_crossing, "override_no_crossing", 0, 1, false},
+    {C::override_force_suitable, "override_force_suitable", 0, 1, false},
 };
 
 /// Distances, speeds and widths: finite and >= 0 where present (length_m always present).
 struct RealColumn {
-  int column;
+  schema::SegmentColumn column;
   const char* name;
   bool nullable;
 };
-constexpr RealColumn kRealColumns[] = {
-    {kLengthM, "length_m", false},
-    {kJunctionDistanceM, "junction_distance_m", true},
-    {kRadiusM, "radius_m", true},
-    {kMaxspeedKmh, "maxspeed_kmh", true},
-    {kWidthM, "width_m", true},
-    {kCrossingDistanceM, "crossing_distance_m", true},
-    {kSightForwardM, "sight_forward_m", true},
-    {kSightBackwardM, "sight_backward_m", true},
-    {kSightMinM, "sight_min_m", true},
-    {kRequiredSightM, "required_sight_m", true},
+const RealColumn kRealColumns[] = {
+    {C::length_m, "length_m", false},
+    {C::junction_distance_m, "junction_distance_m", true},
+    {C::radius_m, "radius_m", true},
+    {C::maxspeed_kmh, "maxspeed_kmh", true},
+    {C::width_m, "width_m", true},
+    {C::crossing_distance_m, "crossing_distance_m", true},
+    {C::sight_forward_m, "sight_forward_m", true},
+    {C::sight_backward_m, "sight_backward_m", true},
+    {C::sight_min_m, "sight_min_m", true},
+    {C::required_sight_m, "required_sight_m", true},
 };
-
-/// The reason codes roadcross-build stores (the runtime adds LOW_SCORE and OVERRIDE itself).
-constexpr std::string_view kStoredReasonCodes[] = {"NOT_CROSSABLE_CLASS",
-                                                   "TUNNEL",
-                                                   "OVERRIDE",
-                                                   "NEAR_JUNCTION",
-                                                   "SHARP_BEND",
-                                                   "CREST_OR_DIP",
-                                                   "LIMITED_VISIBILITY",
-                                                   "BUSY_ROAD",
-                                                   "NO_ELEVATION",
-                                                   "BRIDGE",
-                                                   "COVERED",
-                                                   "TOO_FAR_FROM_ROAD"};
 
 /// What is wrong with the numbers of the current row of the `assessment` statement, or "".
 std::string number_problem(const sqlite::Statement& row) {
+  const schema::SegmentSelection& at = detail::kAssessColumns;
   char text[160];
   for (const IntColumn& c : kIntColumns) {
-    const int type = row.column_type(c.column);
+    const int column = at[c.column];
+    const int type = row.column_type(column);
     if (type == SQLITE_NULL && c.nullable) continue;
-    const std::int64_t value = row.column_int64(c.column);
+    const std::int64_t value = row.column_int64(column);
     if (type != SQLITE_INTEGER || value < c.min || value > c.max) {
       std::snprintf(text, sizeof text, "%s must be an integer in %lld..%lld", c.name,
                     static_cast<long long>(c.min), static_cast<long long>(c.max));
@@ -234,18 +205,20 @@ std::string number_problem(const sqlite::Statement& row) {
     }
   }
   for (const RealColumn& c : kRealColumns) {
-    const int type = row.column_type(c.column);
+    const int column = at[c.column];
+    const int type = row.column_type(column);
     if (type == SQLITE_NULL && c.nullable) continue;
-    const double value = row.column_double(c.column);
+    const double value = row.column_double(column);
     if ((type != SQLITE_FLOAT && type != SQLITE_INTEGER) || !std::isfinite(value) || value < 0.0) {
       std::snprintf(text, sizeof text, "%s must be a finite number >= 0", c.name);
       return text;
     }
   }
-  const bool has_rank = row.column_type(kRank) != SQLITE_NULL;
-  const bool has_score = row.column_type(kScore) != SQLITE_NULL;
+  const int rank = at[C::rank], score = at[C::score];
+  const bool has_rank = row.column_type(rank) != SQLITE_NULL;
+  const bool has_score = row.column_type(score) != SQLITE_NULL;
   if (has_rank != has_score ||
-      (has_rank && row.column_int64(kScore) != 15 - row.column_int64(kRank))) {
+      (has_rank && row.column_int64(score) != 15 - row.column_int64(rank))) {
     return "score must be 15 - rank";
   }
   return {};
@@ -260,8 +233,8 @@ bool not_crossable_class(std::string_view highway) {
 /// contradict the codes (a flipped tunnel bit must not make a tunnel suitable).
 std::string reason_problem(const Assessment& a, bool no_crossing) {
   for (const std::string& code : a.reasons) {
-    if (std::find(std::begin(kStoredReasonCodes), std::end(kStoredReasonCodes), code) ==
-        std::end(kStoredReasonCodes)) {
+    const schema::ReasonSpec* spec = schema::find_reason(code);
+    if (!spec || !spec->stored_by_build) {
       return "unknown reason code '" + code + "'";
     }
   }
@@ -290,34 +263,36 @@ Status judge(sqlite::Statement& row, Assessment& a, bool limited_visibility_unsu
     return Status{StatusCode::not_found,
                   "no segment with fid " + std::to_string(a.road.segment_id)};
   }
-  a.road.osm_way_id = row.column_int64(0);
-  a.road.highway = detail::valid_utf8(row.column_text_view(1));
-  a.road.name = detail::valid_utf8(row.column_text_view(2));
-  a.road.segment_length_m = row.column_double(3);
-  a.class_cost = optional_int(row, 4);
-  a.junction_distance_m = optional_double(row, 5);
-  a.radius_m = optional_double(row, 6);
-  a.curvature_level = optional_int(row, 7);
-  a.curvature_cost = optional_int(row, 8);
-  a.elevation_cost = optional_int(row, 9);
-  if (!row.column_is_null(10)) a.landform.emplace(detail::valid_utf8(row.column_text_view(10)));
-  a.maxspeed_kmh = optional_double(row, 11);
-  a.lanes = optional_int(row, 12);
-  a.width_m = optional_double(row, 13);
-  a.context_score = optional_int(row, 14);
-  a.crossing_distance_m = optional_double(row, 15);
-  a.rank = optional_int(row, 16);
-  a.score = optional_int(row, 17);
+  const schema::SegmentSelection& at = kAssessColumns;
+  a.road.osm_way_id = row.column_int64(at[C::osm_way_id]);
+  a.road.highway = detail::valid_utf8(row.column_text_view(at[C::highway]));
+  a.road.name = detail::valid_utf8(row.column_text_view(at[C::name]));
+  a.road.segment_length_m = row.column_double(at[C::length_m]);
+  a.class_cost = optional_int(row, C::class_cost);
+  a.junction_distance_m = optional_double(row, C::junction_distance_m);
+  a.radius_m = optional_double(row, C::radius_m);
+  a.curvature_level = optional_int(row, C::curvature_level);
+  a.curvature_cost = optional_int(row, C::curvature_cost);
+  a.elevation_cost = optional_int(row, C::elevation_cost);
+  if (!row.column_is_null(at[C::landform]))
+    a.landform.emplace(detail::valid_utf8(row.column_text_view(at[C::landform])));
+  a.maxspeed_kmh = optional_double(row, C::maxspeed_kmh);
+  a.lanes = optional_int(row, C::lanes);
+  a.width_m = optional_double(row, C::width_m);
+  a.context_score = optional_int(row, C::context_score);
+  a.crossing_distance_m = optional_double(row, C::crossing_distance_m);
+  a.rank = optional_int(row, C::rank);
+  a.score = optional_int(row, C::score);
   // Room for the codes added below (TOO_FAR_FROM_ROAD, NO_ELEVATION, LOW_SCORE, OVERRIDE).
-  split_codes(row.column_text_view(18), a.reasons, 4);
-  a.tunnel = row.column_int64(19) != 0;
-  a.override_note = detail::valid_utf8(row.column_text_view(20));
-  const bool no_crossing = row.column_int64(21) != 0;
-  const bool force_suitable = row.column_int64(22) != 0;
-  a.sight_forward_m = optional_double(row, 23);
-  a.sight_backward_m = optional_double(row, 24);
-  a.sight_min_m = optional_double(row, 25);
-  a.required_sight_m = optional_double(row, 26);
+  split_codes(row.column_text_view(at[C::reasons]), a.reasons, 4);
+  a.tunnel = row.column_int64(at[C::tunnel]) != 0;
+  a.override_note = detail::valid_utf8(row.column_text_view(at[C::override_note]));
+  const bool no_crossing = row.column_int64(at[C::override_no_crossing]) != 0;
+  const bool force_suitable = row.column_int64(at[C::override_force_suitable]) != 0;
+  a.sight_forward_m = optional_double(row, C::sight_forward_m);
+  a.sight_backward_m = optional_double(row, C::sight_backward_m);
+  a.sight_min_m = optional_double(row, C::sight_min_m);
+  a.required_sight_m = optional_double(row, C::required_sight_m);
   std::string problem = number_problem(row);
   row.reset();
   if (problem.empty()) problem = reason_problem(a, no_crossing);
@@ -332,7 +307,8 @@ Status judge(sqlite::Statement& row, Assessment& a, bool limited_visibility_unsu
   if (!a.elevation_cost && !has(a.reasons, "NO_ELEVATION")) a.reasons.emplace_back("NO_ELEVATION");
   // Both in range (number_problem), so the sum fits an int.
   const int total = a.score.value_or(0) + a.context_score.value_or(0);
-  const bool forbidden = has(a.reasons, "NOT_CROSSABLE_CLASS") || a.tunnel || no_crossing;
+  const bool forbidden =
+      has(a.reasons, "NOT_CROSSABLE_CLASS") || has(a.reasons, "TUNNEL") || a.tunnel || no_crossing;
   const bool hidden = limited_visibility_unsuitable && has(a.reasons, "LIMITED_VISIBILITY");
   const bool good_enough = a.score.has_value() && total >= a.threshold;
   if (!good_enough && !force_suitable) a.reasons.emplace_back("LOW_SCORE");

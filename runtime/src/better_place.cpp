@@ -23,14 +23,18 @@ struct LocalSegment {
 };
 
 /// Every segment whose box meets the square of half-size `radius_m` around `p`.
-std::vector<LocalSegment> load_neighbourhood(sqlite::Database& db, schema::PlanePoint p,
-                                             double radius_m) {
+std::vector<LocalSegment> load_neighbourhood(sqlite::Database& db, int schema_version,
+                                             schema::PlanePoint p, double radius_m) {
   // Prepared per call: better_place is a planning query (ms), not the hot assess path.
+  using C = schema::SegmentColumn;
+  static const schema::SegmentSelection kColumns(
+      {C::from_node_id, C::to_node_id, C::length_m, C::score, C::context_score, C::reasons,
+       C::tunnel, C::override_no_crossing, C::override_force_suitable, C::crossing_distance_m},
+      2);
   sqlite::Statement query = db.prepare(
-      "SELECT s.fid, s.from_node_id, s.to_node_id, s.length_m, s.geom, s.score, s.context_score, "
-      "s.reasons, s.tunnel, s.override_no_crossing, s.override_force_suitable, "
-      "s.crossing_distance_m, r.minx, r.maxx, r.miny, r.maxy FROM " +
-      std::string(schema::kSegmentsRtree) + " r JOIN " + std::string(schema::kSegmentsTable) +
+      "SELECT s.fid, s.geom, " + kColumns.sql("s", schema_version) +
+      ", r.minx, r.maxx, r.miny, r.maxy FROM " + std::string(schema::kSegmentsRtree) + " r JOIN " +
+      std::string(schema::kSegmentsTable) +
       " s ON s.fid = r.id WHERE r.maxx >= ?1 AND r.minx <= ?2 AND r.maxy >= ?3 AND r.miny <= ?4");
   query.bind(1, p.x - radius_m);
   query.bind(2, p.x + radius_m);
@@ -40,21 +44,23 @@ std::vector<LocalSegment> load_neighbourhood(sqlite::Database& db, schema::Plane
   while (query.step()) {
     LocalSegment s;
     s.id = query.column_int64(0);
-    s.from = query.column_int64(1);
-    s.to = query.column_int64(2);
-    s.length_m = query.column_double(3);
+    s.from = query.column_int64(kColumns[C::from_node_id]);
+    s.to = query.column_int64(kColumns[C::to_node_id]);
+    s.length_m = query.column_double(kColumns[C::length_m]);
     // The walk below is a Dijkstra search: a negative length would make it loop for ever.
     if (!(std::isfinite(s.length_m) && s.length_m >= 0.0)) {
       throw detail::corrupt_segment_error(
           detail::segment_problem(s.id, "length_m must be a finite number >= 0"));
     }
-    if (!schema::decode_linestring(query.column_blob(4), s.points)) {
+    if (!schema::decode_linestring(query.column_blob(1), s.points)) {
       throw detail::corrupt_segment_error(detail::segment_problem(s.id, "malformed geometry"));
     }
-    detail::check_in_box(s.id, s.points, query.column_double(12), query.column_double(13),
-                         query.column_double(14), query.column_double(15));
-    s.has_score = !query.column_is_null(5);
-    const std::int64_t score = query.column_int64(5), context = query.column_int64(6);
+    const int box = 12;  // r.minx: after fid, geom and the ten kColumns
+    detail::check_in_box(s.id, s.points, query.column_double(box), query.column_double(box + 1),
+                         query.column_double(box + 2), query.column_double(box + 3));
+    s.has_score = !query.column_is_null(kColumns[C::score]);
+    const std::int64_t score = query.column_int64(kColumns[C::score]);
+    const std::int64_t context = query.column_int64(kColumns[C::context_score]);
     // The ranges assess checks (score 1..15, |context| <= 1e6): their sum fits an int.
     if ((s.has_score && (score < 1 || score > 15)) || context < -1000000 || context > 1000000) {
       throw detail::corrupt_segment_error(
@@ -62,11 +68,12 @@ std::vector<LocalSegment> load_neighbourhood(sqlite::Database& db, schema::Plane
     }
     s.score = static_cast<int>(score);
     s.context = static_cast<int>(context);
-    s.reasons = detail::valid_utf8(query.column_text_view(7));
-    s.tunnel = query.column_int64(8) != 0;
-    s.no_crossing = query.column_int64(9) != 0;
-    s.force_suitable = query.column_int64(10) != 0;
-    if (!query.column_is_null(11)) s.crossing_distance_m = query.column_double(11);
+    s.reasons = detail::valid_utf8(query.column_text_view(kColumns[C::reasons]));
+    s.tunnel = query.column_int64(kColumns[C::tunnel]) != 0;
+    s.no_crossing = query.column_int64(kColumns[C::override_no_crossing]) != 0;
+    s.force_suitable = query.column_int64(kColumns[C::override_force_suitable]) != 0;
+    if (!query.column_is_null(kColumns[C::crossing_distance_m]))
+      s.crossing_distance_m = query.column_double(kColumns[C::crossing_distance_m]);
     out.push_back(std::move(s));
   }
   return out;
@@ -123,8 +130,8 @@ Result<BetterPlaces> Map::better_place(const Position& position,
   impl_->budget->restart();
   try {
     const schema::PlanePoint robot{here->road.query.easting_m, here->road.query.northing_m};
-    std::vector<LocalSegment> local =
-        load_neighbourhood(impl_->db, robot, options.search_radius_m + 20.0);
+    std::vector<LocalSegment> local = load_neighbourhood(impl_->db, impl_->info.schema_version,
+                                                         robot, options.search_radius_m + 20.0);
     std::unordered_map<std::int64_t, std::vector<std::size_t>> at_node;
     std::size_t start = local.size();
     for (std::size_t i = 0; i < local.size(); ++i) {

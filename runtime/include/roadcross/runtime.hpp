@@ -118,7 +118,7 @@ struct RoadHeading {
 };
 
 /// Per-call overrides of the DB's suitability thresholds (unset = the DB's value, recorded at
-/// build time as param.suitability.*, or DESIGN.md's default for older DBs).
+/// build time as param.suitability.*, or the thesis' default for older DBs).
 /// Every value must be finite (NaN and infinities are invalid_argument).
 struct AssessOptions {
   /// A position is valid within this of a centreline, metres, >= 0.
