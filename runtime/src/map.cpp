@@ -147,13 +147,19 @@ bool ends_with(std::string_view text, std::string_view tail) {
   return text.size() >= tail.size() && text.substr(text.size() - tail.size()) == tail;
 }
 
-/// A trigger a GeoPackage may carry: the R*Tree triggers (spec F.3), the core spec's own
-/// (gpkg_*) and GDAL's feature-count triggers. They never run here (triggers are off and the
-/// connection is read-only); any other trigger means the file was altered.
+/// A trigger a GeoPackage may carry: the R*Tree triggers (spec F.3), the tile pyramid ones,
+/// the core spec's own (gpkg_*) and GDAL's feature-count triggers. They never run here (triggers
+/// are off and the connection is read-only); any other trigger means the file was altered.
 bool known_trigger(std::string_view name) {
   if (name.starts_with("gpkg_") || name.starts_with("trigger_insert_feature_count_") ||
       name.starts_with("trigger_delete_feature_count_")) {
     return true;
+  }
+  // The tile pyramid triggers of a tiles table (GeoPackage 1.3, annex F.5), such as the
+  // build's terrain tiles.
+  for (std::string_view tail : {"_zoom_insert", "_zoom_update", "_tile_column_insert",
+                                "_tile_column_update", "_tile_row_insert", "_tile_row_update"}) {
+    if (ends_with(name, tail)) return true;
   }
   if (!name.starts_with("rtree_")) return false;
   for (std::string_view tail :
