@@ -37,6 +37,11 @@ class WrongVersionError(Error, ValueError):
 class CorruptMapError(Error, ValueError):
     """A roadcross map whose content breaks the contract (also a ValueError)."""
 
+class CorruptSegmentError(CorruptMapError):
+    """One segment of the map cannot be right (a non-finite or out-of-range value, an unknown
+    reason code, an index box that does not hold it, flags contradicting its reasons): no verdict
+    is given there. The message names the segment (also a CorruptMapError)."""
+
 class InvalidArgumentError(Error, ValueError):
     """NaN or infinite input, latitude/longitude out of range, a position outside the map's UTM
     zone, or an option out of its range (also a ValueError)."""

@@ -15,6 +15,7 @@
 #include <pybind11/stl/filesystem.h>
 
 #include <filesystem>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <utility>
@@ -42,6 +43,7 @@ struct ErrorClasses {
   PyObject* invalid_argument = nullptr;
   PyObject* not_found = nullptr;
   PyObject* internal = nullptr;
+  PyObject* corrupt_segment = nullptr;
 };
 ErrorClasses g_errors;
 
@@ -79,6 +81,12 @@ void add_error_classes(py::module_& m) {
       add_error_class(m, "CorruptMapError",
                       "A roadcross map whose content breaks the contract (also a ValueError).",
                       py::make_tuple(base, builtins.attr("ValueError")));
+  g_errors.corrupt_segment = add_error_class(
+      m, "CorruptSegmentError",
+      "One segment of the map cannot be right (a non-finite or out-of-range value, an unknown "
+      "reason code, an index box that does not hold it, flags contradicting its reasons): no "
+      "verdict is given there. The message names the segment (also a CorruptMapError).",
+      py::make_tuple(py::reinterpret_borrow<py::object>(g_errors.corrupt_database)));
   g_errors.invalid_argument = add_error_class(
       m, "InvalidArgumentError",
       "NaN or infinite input, latitude/longitude out of range, a position outside the map's UTM "
@@ -104,6 +112,8 @@ PyObject* error_class(StatusCode code) {
       return g_errors.wrong_version;
     case StatusCode::corrupt_database:
       return g_errors.corrupt_database;
+    case StatusCode::corrupt_segment:
+      return g_errors.corrupt_segment;
     case StatusCode::invalid_argument:
       return g_errors.invalid_argument;
     case StatusCode::not_found:
@@ -185,18 +195,54 @@ void add_repr(Class& cls, const char* name, std::initializer_list<const char*> a
 }
 
 /// A Map that can be closed (Python's `with` and close()) before it is garbage-collected.
+/// Queries run without the GIL, so that other Python threads keep running while the runtime
+/// works (a hostile map's query may take seconds before the runtime stops it); the mutex keeps
+/// the one SQLite connection to one thread at a time, as the runtime requires.
 class PyMap {
  public:
-  explicit PyMap(const std::filesystem::path& path)
-      : map_(value_or_raise(Map::open(path.string()))) {}
-  Map& get() {
-    if (!map_) throw py::value_error("this roadcross.Map is closed");
-    return *map_;
+  explicit PyMap(const std::filesystem::path& path) : map_(open_without_gil(path.string())) {}
+
+  /// f(Map&) -> Result<T>, run without the GIL and under the mutex; the value, or the Status
+  /// raised as the roadcross exception. f must not touch Python objects.
+  template <typename F>
+  auto query(F&& f) {
+    using ResultType = decltype(f(std::declval<Map&>()));
+    std::optional<ResultType> result;
+    {
+      py::gil_scoped_release release;
+      const std::lock_guard<std::mutex> lock(mutex_);
+      if (map_) result.emplace(f(*map_));
+    }
+    if (!result) throw py::value_error("this roadcross.Map is closed");
+    return value_or_raise(std::move(*result));
   }
-  void close() { map_.reset(); }
-  bool closed() const { return !map_.has_value(); }
+
+  /// A copy of the map's description (a reference would dangle after close()).
+  MapInfo info() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (!map_) throw py::value_error("this roadcross.Map is closed");
+    return map_->info();
+  }
+  void close() {
+    py::gil_scoped_release release;  // a query in another thread may hold the mutex
+    const std::lock_guard<std::mutex> lock(mutex_);
+    map_.reset();
+  }
+  bool closed() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return !map_.has_value();
+  }
 
  private:
+  static std::optional<Map> open_without_gil(const std::string& path) {
+    Result<Map> opened = [&] {
+      py::gil_scoped_release release;
+      return Map::open(path);
+    }();
+    return value_or_raise(std::move(opened));
+  }
+
+  std::mutex mutex_;
   std::optional<Map> map_;
 };
 
@@ -593,7 +639,7 @@ void bind_map(py::module_& m) {
       .def_property_readonly(
           "info",
           // A copy: a reference into the Map would dangle after close().
-          [](PyMap& self) { return MapInfo(self.get().info()); },
+          [](PyMap& self) { return self.info(); },
           "MapInfo: UTM zone, extent, segment count, metadata")
       .def_property_readonly("closed", &PyMap::closed,
                              "True after close() or the end of the with block")
@@ -608,7 +654,8 @@ void bind_map(py::module_& m) {
           "to_utm",
           [](PyMap& self, std::optional<double> lat, std::optional<double> lon,
              std::optional<double> easting, std::optional<double> northing) {
-            return value_or_raise(self.get().to_utm(position_from(lat, lon, easting, northing)));
+            const Position position = position_from(lat, lon, easting, northing);
+            return self.query([&](Map& map) { return map.to_utm(position); });
           },
           ROADCROSS_POSITION_ARGS,
           "The position in the map's UTM zone (PlanePoint, metres).\n" ROADCROSS_POSITION_DOC)
@@ -616,8 +663,8 @@ void bind_map(py::module_& m) {
           "nearest",
           [](PyMap& self, std::optional<double> lat, std::optional<double> lon,
              std::optional<double> easting, std::optional<double> northing, double max_distance_m) {
-            return value_or_raise(
-                self.get().nearest(position_from(lat, lon, easting, northing), max_distance_m));
+            const Position position = position_from(lat, lon, easting, northing);
+            return self.query([&](Map& map) { return map.nearest(position, max_distance_m); });
           },
           ROADCROSS_POSITION_ARGS, "max_distance_m"_a = 1000.0,
           "The nearest road centreline (NearestRoad).\n" ROADCROSS_POSITION_DOC
@@ -628,9 +675,10 @@ void bind_map(py::module_& m) {
              std::optional<double> easting, std::optional<double> northing,
              std::optional<double> valid_distance_m, std::optional<double> threshold,
              double max_distance_m, std::optional<double> max_kerb_height_m) {
-            return value_or_raise(self.get().assess(
-                position_from(lat, lon, easting, northing),
-                assess_options(valid_distance_m, threshold, max_distance_m, max_kerb_height_m)));
+            const Position position = position_from(lat, lon, easting, northing);
+            const AssessOptions options =
+                assess_options(valid_distance_m, threshold, max_distance_m, max_kerb_height_m);
+            return self.query([&](Map& map) { return map.assess(position, options); });
           },
           ROADCROSS_POSITION_ARGS, "valid_distance_m"_a = py::none(), "threshold"_a = py::none(),
           "max_distance_m"_a = AssessOptions{}.max_distance_m, "max_kerb_height_m"_a = py::none(),
@@ -644,9 +692,9 @@ void bind_map(py::module_& m) {
           "assess_segment",
           [](PyMap& self, std::int64_t segment_id, std::optional<double> valid_distance_m,
              std::optional<double> threshold, std::optional<double> max_kerb_height_m) {
-            return value_or_raise(self.get().assess_segment(
-                segment_id,
-                assess_options(valid_distance_m, threshold, 1000.0, max_kerb_height_m)));
+            const AssessOptions options =
+                assess_options(valid_distance_m, threshold, 1000.0, max_kerb_height_m);
+            return self.query([&](Map& map) { return map.assess_segment(segment_id, options); });
           },
           "segment_id"_a, py::kw_only(), "valid_distance_m"_a = py::none(),
           "threshold"_a = py::none(), "max_kerb_height_m"_a = py::none(),
@@ -662,8 +710,8 @@ void bind_map(py::module_& m) {
             options.search_radius_m = search_radius_m;
             options.max_candidates = max_candidates;
             options.assess = assess_options(valid_distance_m, threshold, 1000.0, max_kerb_height_m);
-            return value_or_raise(
-                self.get().better_place(position_from(lat, lon, easting, northing), options));
+            const Position position = position_from(lat, lon, easting, northing);
+            return self.query([&](Map& map) { return map.better_place(position, options); });
           },
           ROADCROSS_POSITION_ARGS, "search_radius_m"_a = BetterPlaceOptions{}.search_radius_m,
           "max_candidates"_a = BetterPlaceOptions{}.max_candidates,
@@ -677,8 +725,8 @@ void bind_map(py::module_& m) {
           "road_heading",
           [](PyMap& self, std::optional<double> lat, std::optional<double> lon,
              std::optional<double> easting, std::optional<double> northing, double max_distance_m) {
-            return value_or_raise(self.get().road_heading(
-                position_from(lat, lon, easting, northing), max_distance_m));
+            const Position position = position_from(lat, lon, easting, northing);
+            return self.query([&](Map& map) { return map.road_heading(position, max_distance_m); });
           },
           ROADCROSS_POSITION_ARGS, "max_distance_m"_a = 1000.0,
           "The road's direction and the crossing heading (RoadHeading; ENU grid yaws, "
@@ -688,9 +736,10 @@ void bind_map(py::module_& m) {
           [](PyMap& self, std::optional<double> lat, std::optional<double> lon,
              std::optional<double> easting, std::optional<double> northing, double default_width_m,
              double kerb_margin_m) {
-            return value_or_raise(plan_crossing(self.get(),
-                                                position_from(lat, lon, easting, northing),
-                                                default_width_m, kerb_margin_m));
+            const Position position = position_from(lat, lon, easting, northing);
+            return self.query([&](Map& map) {
+              return plan_crossing(map, position, default_width_m, kerb_margin_m);
+            });
           },
           ROADCROSS_POSITION_ARGS, "default_width_m"_a = 6.0, "kerb_margin_m"_a = 0.5,
           "A CrossingPlan from this position straight across the road, to half the road width "
@@ -705,8 +754,8 @@ void bind_map(py::module_& m) {
             defaults.width_m = default_width_m;
             defaults.lane_width_m = default_lane_width_m;
             defaults.maxspeed_kmh = default_maxspeed_kmh;
-            return value_or_raise(
-                gap_crossing(self.get(), position_from(lat, lon, easting, northing), defaults));
+            const Position position = position_from(lat, lon, easting, northing);
+            return self.query([&](Map& map) { return gap_crossing(map, position, defaults); });
           },
           ROADCROSS_POSITION_ARGS, "default_width_m"_a = GapCrossingDefaults{}.width_m,
           "default_lane_width_m"_a = GapCrossingDefaults{}.lane_width_m,
@@ -716,8 +765,7 @@ void bind_map(py::module_& m) {
           "roadcross.gap_decision.\n" ROADCROSS_POSITION_DOC)
       .def("__repr__", [](PyMap& self) {
         if (self.closed()) return std::string("roadcross.Map(<closed>)");
-        return "roadcross.Map(" + py::repr(py::str(self.get().info().path)).cast<std::string>() +
-               ")";
+        return "roadcross.Map(" + py::repr(py::str(self.info().path)).cast<std::string>() + ")";
       });
 }
 

@@ -45,7 +45,7 @@ int AssessCommand::run() {
   }
   const Assessment& a = *result;
   if (query_.json) {
-    std::cout << assessment_json(a).dump(2) << "\n";
+    std::cout << json_text(assessment_json(a), 2) << "\n";
     return 0;
   }
   const std::string name = a.road.name.empty() ? "(unnamed)" : a.road.name;

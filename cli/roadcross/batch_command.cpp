@@ -69,7 +69,7 @@ std::string batch_answer(Map& map, const std::string& line, long number, bool& f
   numbered["line"] = number;
   for (auto& [key, value] : out.items()) numbered[key] = value;
   // Text from the request or the map may be any bytes: replaced (U+FFFD), never fatal.
-  return numbered.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  return json_text(numbered);
 }
 
 BatchCommand::BatchCommand(CLI::App& parent) {

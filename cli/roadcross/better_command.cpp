@@ -34,7 +34,7 @@ int BetterCommand::run() {
   }
   if (query_.json) {
     const nlohmann::ordered_json out = better_places_json(*result);
-    std::cout << out.dump(2) << "\n";
+    std::cout << json_text(out, 2) << "\n";
     return 0;
   }
   if (result->candidates.empty()) {

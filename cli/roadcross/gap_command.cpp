@@ -183,7 +183,7 @@ int GapCommand::run() {
     return 1;
   }
   if (query_.json) {
-    std::cout << decision_json(*d, *crossing, lines).dump(2) << "\n";
+    std::cout << json_text(decision_json(*d, *crossing, lines), 2) << "\n";
   } else {
     print_decision(*d, *crossing, options_, lines);
   }

@@ -21,7 +21,7 @@ int HeadingCommand::run() {
   if (!heading.ok()) return report_error(heading.status);
   if (query_.json) {
     const nlohmann::ordered_json out = heading_json(*heading);
-    std::cout << out.dump(2) << "\n";
+    std::cout << json_text(out, 2) << "\n";
     return 0;
   }
   std::printf("road      %s, %.2f m away\n", road_label(heading->road).c_str(),

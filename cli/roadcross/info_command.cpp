@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "json_output.hpp"
 #include "roadcross/schema/schema.hpp"
 
 namespace roadcross::cli {
@@ -33,10 +34,10 @@ int InfoCommand::run() {
     out["segment_count"] = info.segment_count;
     out["extent_utm_m"] = {info.min_easting_m, info.min_northing_m, info.max_easting_m,
                            info.max_northing_m};
-    nlohmann::ordered_json metadata = nlohmann::ordered_json::object();
-    for (const auto& [key, value] : info.metadata) metadata[key] = value;
-    out["metadata"] = metadata;
-    std::cout << out.dump(2) << "\n";
+    // Built in one pass: the rows come sorted with unique keys (the table's primary key), and
+    // inserting key by key would search the ordered object each time (quadratic in the rows).
+    out["metadata"] = nlohmann::ordered_json::object_t(info.metadata.begin(), info.metadata.end());
+    std::cout << json_text(out, 2) << "\n";
     return 0;
   }
   std::printf("file            %s\n", info.path.c_str());

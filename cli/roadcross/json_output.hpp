@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <string>
 
 #include "roadcross/runtime.hpp"
 
@@ -13,6 +14,15 @@ namespace roadcross::cli {
 template <typename T>
 nlohmann::ordered_json or_null(const std::optional<T>& value) {
   return value ? nlohmann::ordered_json(*value) : nlohmann::ordered_json(nullptr);
+}
+
+/// The JSON text of `value` (compact, or indented by `indent` spaces): every string byte sequence
+/// that is not valid UTF-8 (a binary batch line, a damaged name in a map, a path in another
+/// encoding) becomes U+FFFD instead of aborting the program, since JSON must be UTF-8. Every
+/// JSON the roadcross CLI prints goes through this.
+template <typename Json>
+std::string json_text(const Json& value, int indent = -1) {
+  return value.dump(indent, ' ', false, Json::error_handler_t::replace);
 }
 
 nlohmann::ordered_json road_json(const NearestRoad& road);

@@ -41,7 +41,7 @@ int MonitorCommand::run() {
     out["plan_start_utm_m"] = {plan->start.easting_m, plan->start.northing_m};
     out["plan_target_utm_m"] = {plan->target.easting_m, plan->target.northing_m};
     out["plan_heading_rad"] = plan->heading_rad;
-    std::cout << out.dump(2) << "\n";
+    std::cout << json_text(out, 2) << "\n";
     return 0;
   }
   std::printf("%s  progress %.0f %%  lateral %+.2f m  heading error %+.3f rad\n",

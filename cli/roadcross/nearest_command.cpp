@@ -20,7 +20,7 @@ int NearestCommand::run() {
   const Result<NearestRoad> road = map->nearest(query_.position(), max_distance_m_);
   if (!road.ok()) return report_error(road.status);
   if (query_.json) {
-    std::cout << road_json(*road).dump(2) << "\n";
+    std::cout << json_text(road_json(*road), 2) << "\n";
     return 0;
   }
   std::printf("road      %s\n", road_label(*road).c_str());

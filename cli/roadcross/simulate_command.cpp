@@ -109,7 +109,7 @@ bool print_runs(const sim::Scenario& s, const std::string& policy, double volume
     out["crossing_s"] = r->crossing_s;
     out["acceptable_gaps_offered"] = r->acceptable_gaps_offered;
     out["used_acceptable_gap"] = r->used_acceptable_gap;
-    std::cout << out.dump() << "\n";
+    std::cout << json_text(out) << "\n";
   }
   return true;
 }
@@ -117,6 +117,11 @@ bool print_runs(const sim::Scenario& s, const std::string& policy, double volume
 }  // namespace
 
 int SimulateCommand::run() {
+  if (runs_ < 1 || runs_ > sim::kMaxRuns) {
+    std::cerr << "roadcross simulate: --runs is " << runs_ << ", must be in [1, " << sim::kMaxRuns
+              << "]\n";
+    return 2;
+  }
   sim::Road road;
   road.sight_m = sensor_range_m_;
   std::string place = label_.empty() ? "synthetic" : label_;
@@ -194,7 +199,7 @@ int SimulateCommand::run() {
     out["seed"] = seed_;
     out["rows"] = nlohmann::ordered_json::array();
     for (const Row& r : rows) out["rows"].push_back(row_json(r));
-    std::cout << out.dump(2) << "\n";
+    std::cout << json_text(out, 2) << "\n";
     return 0;
   }
   std::printf(

@@ -2,6 +2,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "json_output.hpp"
 #include "roadcross/mapcheck/content_hash.hpp"
 #include "roadcross/mapcheck/verify.hpp"
 
@@ -42,7 +43,7 @@ int VerifyCommand::run() {
                                                  : nlohmann::ordered_json(result.stored_map_id);
     out["segment_count"] = result.segment_count;
     out["problems"] = result.problems;
-    std::cout << out.dump(2) << "\n";
+    std::cout << json_text(out, 2) << "\n";
   } else if (result.ok()) {
     std::cout << db_path_ << ": ok, map_id " << result.stored_map_id << ", " << result.segment_count
               << " segments\n";

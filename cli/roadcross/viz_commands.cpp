@@ -5,6 +5,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "json_output.hpp"
 #include "viz_command_list.hpp"
 
 namespace roadcross::cli {
@@ -68,7 +69,7 @@ int RenderCommand::run() {
       out["segments"] = s.segments;
       out["designated_crossings"] = s.crossings;
       out["hillshade"] = s.hillshade;
-      std::cout << out.dump(2) << "\n";
+      std::cout << json_text(out, 2) << "\n";
     } else {
       std::printf("wrote %s (%d x %d px, %.2f m/px, %zu segments, %zu crossings%s)\n",
                   options_.output_path.c_str(), s.width_px, s.height_px, s.metres_per_px,

@@ -1,6 +1,8 @@
 // Map::assess: the segment's cost terms read from the DB, judged against the thresholds.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <string_view>
 
@@ -51,8 +53,9 @@ const schema::SegmentSelection kIdentityColumns = {C::osm_way_id, C::highway, C:
 const schema::SegmentSelection kEndNodeColumns({C::from_node_id, C::to_node_id}, 2);
 
 Queries::Queries(sqlite::Database& db, int schema_version)
-    : candidates(db.prepare("SELECT s.fid, s.geom FROM " + std::string(schema::kSegmentsRtree) +
-                            " r JOIN " + std::string(schema::kSegmentsTable) +
+    : candidates(db.prepare("SELECT s.fid, s.geom, r.minx, r.maxx, r.miny, r.maxy FROM " +
+                            std::string(schema::kSegmentsRtree) + " r JOIN " +
+                            std::string(schema::kSegmentsTable) +
                             " s ON s.fid = r.id WHERE r.maxx >= ?1 AND r.minx <= ?2 AND "
                             "r.maxy >= ?3 AND r.miny <= ?4")),
       attributes(db.prepare("SELECT " + kIdentityColumns.sql("", schema_version) + " FROM " +
@@ -62,26 +65,55 @@ Queries::Queries(sqlite::Database& db, int schema_version)
       rtree_holder(
           db.prepare("SELECT id FROM " + std::string(schema::kSegmentsRtree) + " LIMIT 1")),
       segments_at(db.prepare("SELECT s.fid, s.geom, " + kEndNodeColumns.sql("s", schema_version) +
-                             " FROM " + std::string(schema::kSegmentsRtree) + " r JOIN " +
+                             ", r.minx, r.maxx, r.miny, r.maxy FROM " +
+                             std::string(schema::kSegmentsRtree) + " r JOIN " +
                              std::string(schema::kSegmentsTable) +
                              " s ON s.fid = r.id WHERE r.maxx >= ?1 AND r.minx <= ?2 AND "
                              "r.maxy >= ?3 AND r.miny <= ?4")) {
   rtree_holder.step();
 }
 
-Thresholds thresholds_from(const MapInfo& info) {
+Status thresholds_from(const MapInfo& info, Thresholds& out) {
   Thresholds t;
   for (const auto& [key, value] : info.metadata) {
+    double* target = key == schema::meta::kValidDistanceParam    ? &t.valid_distance_m
+                     : key == schema::meta::kThresholdParam      ? &t.threshold
+                     : key == schema::meta::kMaxKerbHeightParam ? &t.max_kerb_height_m
+                                                                 : nullptr;
+    const bool visibility = key == schema::meta::kLimitedVisibilityUnsuitableParam;
+    if (!target && !visibility) continue;
     char* end = nullptr;
     const double number = std::strtod(value.c_str(), &end);
-    if (end == value.c_str()) continue;
-    if (key == schema::meta::kValidDistanceParam) t.valid_distance_m = number;
-    if (key == schema::meta::kThresholdParam) t.threshold = number;
-    if (key == schema::meta::kLimitedVisibilityUnsuitableParam)
-      t.limited_visibility_unsuitable = number != 0.0;
-    if (key == schema::meta::kMaxKerbHeightParam) t.max_kerb_height_m = number;
+    const bool in_range = end != value.c_str() && *end == '\0' && std::isfinite(number) &&
+                          (target == &t.threshold || number >= 0.0);
+    if (!in_range) {
+      return {StatusCode::corrupt_database,
+              info.path + ": metadata " + key + " is '" + value +
+                  "', not a finite number in range. Rebuild the map with roadcross-build."};
+    }
+    if (target) *target = number;
+    if (visibility) t.limited_visibility_unsuitable = number != 0.0;
   }
-  return t;
+  out = t;
+  return {};
+}
+
+Status check_assess_options(const AssessOptions& options) {
+  if (options.valid_distance_m &&
+      !(std::isfinite(*options.valid_distance_m) && *options.valid_distance_m >= 0.0)) {
+    return {StatusCode::invalid_argument, "valid_distance_m must be a finite number >= 0 metres"};
+  }
+  if (options.threshold && !std::isfinite(*options.threshold)) {
+    return {StatusCode::invalid_argument, "threshold must be a finite number"};
+  }
+  if (!(options.max_distance_m > 0.0 && options.max_distance_m <= kMaxSearchDistanceM)) {
+    return {StatusCode::invalid_argument, "max_distance_m must be in (0, 100000] metres"};
+  }
+  if (options.max_kerb_height_m &&
+      !(std::isfinite(*options.max_kerb_height_m) && *options.max_kerb_height_m >= 0.0)) {
+    return {StatusCode::invalid_argument, "max_kerb_height_m must be a finite number >= 0 metres"};
+  }
+  return {};
 }
 
 }  // namespace detail
@@ -131,6 +163,112 @@ bool has(const std::vector<std::string>& codes, std::string_view code) {
   return std::find(codes.begin(), codes.end(), code) != codes.end();
 }
 
+/// Integer columns and the values roadcross-build writes (docs/cost-model.md; the flags are 0
+/// or 1). context_score's bound is far beyond any parameter file's, and keeps score +
+/// context_score inside int.
+struct IntColumn {
+  schema::SegmentColumn column;
+  const char* name;
+  std::int64_t min, max;
+  bool nullable;
+};
+const IntColumn kIntColumns[] = {
+    {C::osm_way_id, "osm_way_id", INT64_MIN, INT64_MAX, false},
+    {C::class_cost, "class_cost", 0, 5, true},
+    {C::curvature_level, "curvature_level", 0, 5, true},
+    {C::curvature_cost, "curvature_cost", 0, 14, true},
+    {C::elevation_cost, "elevation_cost", 0, 9, true},
+    {C::lanes, "lanes", 0, 1000, true},
+    {C::context_score, "context_score", -1000000, 1000000, true},
+    {C::rank, "rank", 0, 14, true},
+    {C::score, "score", 1, 15, true},
+    {C::tunnel, "tunnel", 0, 1, false},
+    {C::override_no_crossing, "override_no_crossing", 0, 1, false},
+    {C::override_force_suitable, "override_force_suitable", 0, 1, false},
+    {C::crossing_island, "crossing_island", 0, 1, true},
+    {C::sidewalk_left, "sidewalk_left", 0, 1, true},
+    {C::sidewalk_right, "sidewalk_right", 0, 1, true},
+};
+
+/// Distances, speeds and widths: finite and >= 0 where present (length_m always present).
+struct RealColumn {
+  schema::SegmentColumn column;
+  const char* name;
+  bool nullable;
+};
+const RealColumn kRealColumns[] = {
+    {C::length_m, "length_m", false},
+    {C::junction_distance_m, "junction_distance_m", true},
+    {C::radius_m, "radius_m", true},
+    {C::maxspeed_kmh, "maxspeed_kmh", true},
+    {C::width_m, "width_m", true},
+    {C::crossing_distance_m, "crossing_distance_m", true},
+    {C::sight_forward_m, "sight_forward_m", true},
+    {C::sight_backward_m, "sight_backward_m", true},
+    {C::sight_min_m, "sight_min_m", true},
+    {C::required_sight_m, "required_sight_m", true},
+    {C::kerb_height_m, "kerb_height_m", true},
+};
+
+/// What is wrong with the numbers of the current row of the `assessment` statement, or "".
+std::string number_problem(const sqlite::Statement& row) {
+  const schema::SegmentSelection& at = detail::kAssessColumns;
+  char text[160];
+  for (const IntColumn& c : kIntColumns) {
+    const int column = at[c.column];
+    const int type = row.column_type(column);
+    if (type == SQLITE_NULL && c.nullable) continue;
+    const std::int64_t value = row.column_int64(column);
+    if (type != SQLITE_INTEGER || value < c.min || value > c.max) {
+      std::snprintf(text, sizeof text, "%s must be an integer in %lld..%lld", c.name,
+                    static_cast<long long>(c.min), static_cast<long long>(c.max));
+      return text;
+    }
+  }
+  for (const RealColumn& c : kRealColumns) {
+    const int column = at[c.column];
+    const int type = row.column_type(column);
+    if (type == SQLITE_NULL && c.nullable) continue;
+    const double value = row.column_double(column);
+    if ((type != SQLITE_FLOAT && type != SQLITE_INTEGER) || !std::isfinite(value) || value < 0.0) {
+      std::snprintf(text, sizeof text, "%s must be a finite number >= 0", c.name);
+      return text;
+    }
+  }
+  const int rank = at[C::rank], score = at[C::score];
+  const bool has_rank = row.column_type(rank) != SQLITE_NULL;
+  const bool has_score = row.column_type(score) != SQLITE_NULL;
+  if (has_rank != has_score ||
+      (has_rank && row.column_int64(score) != 15 - row.column_int64(rank))) {
+    return "score must be 15 - rank";
+  }
+  return {};
+}
+
+bool not_crossable_class(std::string_view highway) {
+  const std::string_view base = highway.substr(0, highway.find("_link"));
+  return base == "motorway" || base == "trunk";
+}
+
+/// What is wrong with the reasons of a judged row, or "": unknown codes and flags that
+/// contradict the codes (a flipped tunnel bit must not make a tunnel suitable).
+std::string reason_problem(const Assessment& a, bool no_crossing) {
+  for (const std::string& code : a.reasons) {
+    const schema::ReasonSpec* spec = schema::find_reason(code);
+    if (!spec || !spec->stored_by_build) {
+      return "unknown reason code '" + code + "'";
+    }
+  }
+  if (a.tunnel != has(a.reasons, "TUNNEL")) return "the tunnel flag contradicts its reasons";
+  if (no_crossing && !has(a.reasons, "OVERRIDE")) {
+    return "override_no_crossing is set but OVERRIDE is not among its reasons";
+  }
+  if (not_crossable_class(a.road.highway) != has(a.reasons, "NOT_CROSSABLE_CLASS")) {
+    return "highway=" + a.road.highway + " contradicts NOT_CROSSABLE_CLASS in its reasons";
+  }
+  return {};
+}
+
 }  // namespace
 
 namespace {
@@ -149,8 +287,8 @@ Status judge(sqlite::Statement& row, Assessment& a, bool limited_visibility_unsu
   }
   const schema::SegmentSelection& at = kAssessColumns;
   a.road.osm_way_id = row.column_int64(at[C::osm_way_id]);
-  a.road.highway = row.column_text_view(at[C::highway]);
-  a.road.name = row.column_text_view(at[C::name]);
+  a.road.highway = detail::valid_utf8(row.column_text_view(at[C::highway]));
+  a.road.name = detail::valid_utf8(row.column_text_view(at[C::name]));
   a.road.segment_length_m = row.column_double(at[C::length_m]);
   a.class_cost = optional_int(row, C::class_cost);
   a.junction_distance_m = optional_double(row, C::junction_distance_m);
@@ -159,7 +297,7 @@ Status judge(sqlite::Statement& row, Assessment& a, bool limited_visibility_unsu
   a.curvature_cost = optional_int(row, C::curvature_cost);
   a.elevation_cost = optional_int(row, C::elevation_cost);
   if (!row.column_is_null(at[C::landform]))
-    a.landform.emplace(row.column_text_view(at[C::landform]));
+    a.landform.emplace(detail::valid_utf8(row.column_text_view(at[C::landform])));
   a.maxspeed_kmh = optional_double(row, C::maxspeed_kmh);
   a.lanes = optional_int(row, C::lanes);
   a.width_m = optional_double(row, C::width_m);
@@ -171,23 +309,33 @@ Status judge(sqlite::Statement& row, Assessment& a, bool limited_visibility_unsu
   // KERB_TOO_HIGH, NO_PAVEMENT_FAR_SIDE).
   split_codes(row.column_text_view(at[C::reasons]), a.reasons, 6);
   a.tunnel = row.column_int64(at[C::tunnel]) != 0;
-  a.override_note = row.column_text_view(at[C::override_note]);
+  a.override_note = detail::valid_utf8(row.column_text_view(at[C::override_note]));
   const bool no_crossing = row.column_int64(at[C::override_no_crossing]) != 0;
   const bool force_suitable = row.column_int64(at[C::override_force_suitable]) != 0;
   a.sight_forward_m = optional_double(row, C::sight_forward_m);
   a.sight_backward_m = optional_double(row, C::sight_backward_m);
   a.sight_min_m = optional_double(row, C::sight_min_m);
   a.required_sight_m = optional_double(row, C::required_sight_m);
-  if (!row.column_is_null(at[C::kerb])) a.kerb.emplace(row.column_text_view(at[C::kerb]));
+  if (!row.column_is_null(at[C::kerb]))
+    a.kerb.emplace(detail::valid_utf8(row.column_text_view(at[C::kerb])));
   a.kerb_height_m = optional_double(row, C::kerb_height_m);
   a.crossing_island = optional_flag(row, C::crossing_island);
   a.sidewalk_left = optional_flag(row, C::sidewalk_left);
   a.sidewalk_right = optional_flag(row, C::sidewalk_right);
+  std::string problem = number_problem(row);
+  // Judged before the reset (the reasons' text lives in the row); used only when the row's
+  // numbers are in range (number_problem), so score + context_score fits an int.
   const schema::Verdict verdict =
       schema::judge_segment({a.score, a.context_score, row.column_text_view(at[C::reasons]),
                              a.tunnel, no_crossing, force_suitable},
                             {a.threshold, limited_visibility_unsuitable});
   row.reset();
+  if (problem.empty()) problem = reason_problem(a, no_crossing);
+  if (!problem.empty()) {
+    throw detail::corrupt_segment_error("segment " + std::to_string(a.road.segment_id) +
+                                        " (OSM way " + std::to_string(a.road.osm_way_id) +
+                                        "): " + problem);
+  }
 
   a.valid = a.road.distance_m <= a.valid_distance_m;
   if (!a.valid) a.reasons.insert(a.reasons.begin(), "TOO_FAR_FROM_ROAD");
@@ -210,25 +358,11 @@ Status judge(sqlite::Statement& row, Assessment& a, bool limited_visibility_unsu
 
 }  // namespace
 
-namespace {
-Status check_kerb_option(const AssessOptions& options) {
-  if (options.max_kerb_height_m &&
-      !(*options.max_kerb_height_m >= 0.0 && std::isfinite(*options.max_kerb_height_m))) {
-    return Status{StatusCode::invalid_argument, "max_kerb_height_m must be a finite number >= 0"};
-  }
-  return Status{};
-}
-}  // namespace
-
 Result<Assessment> Map::assess(const Position& position, const AssessOptions& options) noexcept {
-  if (!(options.max_distance_m > 0.0)) {
-    return Result<Assessment>{Status{StatusCode::invalid_argument, "max_distance_m must be > 0"},
-                              std::nullopt};
-  }
-  if (Status s = check_kerb_option(options); !s.ok()) {
-    return Result<Assessment>{std::move(s), std::nullopt};
-  }
+  Status checked = detail::check_assess_options(options);
+  if (!checked.ok()) return Result<Assessment>{std::move(checked), std::nullopt};
   Impl& impl = *impl_;
+  impl.budget->restart();
   try {
     Result<Assessment> result{Status{}, std::optional<Assessment>(std::in_place)};
     Assessment& a = *result.value;
@@ -247,17 +381,16 @@ Result<Assessment> Map::assess(const Position& position, const AssessOptions& op
   } catch (const std::exception& e) {
     impl.queries.candidates.reset();
     impl.queries.assessment.reset();
-    return Result<Assessment>{
-        Status{StatusCode::corrupt_database, impl.info.path + ": " + e.what()}, std::nullopt};
+    return Result<Assessment>{detail::status_of(e, impl.info.path), std::nullopt};
   }
 }
 
 Result<Assessment> Map::assess_segment(std::int64_t segment_id,
                                        const AssessOptions& options) noexcept {
-  if (Status s = check_kerb_option(options); !s.ok()) {
-    return Result<Assessment>{std::move(s), std::nullopt};
-  }
+  Status checked = detail::check_assess_options(options);
+  if (!checked.ok()) return Result<Assessment>{std::move(checked), std::nullopt};
   Impl& impl = *impl_;
+  impl.budget->restart();
   try {
     Result<Assessment> result{Status{}, std::optional<Assessment>(std::in_place)};
     Assessment& a = *result.value;
@@ -275,8 +408,7 @@ Result<Assessment> Map::assess_segment(std::int64_t segment_id,
     return result;
   } catch (const std::exception& e) {
     impl.queries.assessment.reset();
-    return Result<Assessment>{
-        Status{StatusCode::corrupt_database, impl.info.path + ": " + e.what()}, std::nullopt};
+    return Result<Assessment>{detail::status_of(e, impl.info.path), std::nullopt};
   }
 }
 

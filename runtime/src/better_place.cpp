@@ -35,8 +35,9 @@ std::vector<LocalSegment> load_neighbourhood(sqlite::Database& db, int schema_ve
        C::kerb_height_m, C::sidewalk_left, C::sidewalk_right},
       2);
   sqlite::Statement query = db.prepare(
-      "SELECT s.fid, s.geom, " + kColumns.sql("s", schema_version) + " FROM " +
-      std::string(schema::kSegmentsRtree) + " r JOIN " + std::string(schema::kSegmentsTable) +
+      "SELECT s.fid, s.geom, " + kColumns.sql("s", schema_version) +
+      ", r.minx, r.maxx, r.miny, r.maxy FROM " + std::string(schema::kSegmentsRtree) + " r JOIN " +
+      std::string(schema::kSegmentsTable) +
       " s ON s.fid = r.id WHERE r.maxx >= ?1 AND r.minx <= ?2 AND r.maxy >= ?3 AND r.miny <= ?4");
   query.bind(1, p.x - radius_m);
   query.bind(2, p.x + radius_m);
@@ -46,15 +47,31 @@ std::vector<LocalSegment> load_neighbourhood(sqlite::Database& db, int schema_ve
   while (query.step()) {
     LocalSegment s;
     s.id = query.column_int64(0);
-    if (!schema::decode_linestring(query.column_blob(1), s.points)) continue;
     s.from = query.column_int64(kColumns[C::from_node_id]);
     s.to = query.column_int64(kColumns[C::to_node_id]);
     s.length_m = query.column_double(kColumns[C::length_m]);
-    if (!query.column_is_null(kColumns[C::score]))
-      s.score = static_cast<int>(query.column_int64(kColumns[C::score]));
-    if (!query.column_is_null(kColumns[C::context_score]))
-      s.context = static_cast<int>(query.column_int64(kColumns[C::context_score]));
-    s.reasons = query.column_text(kColumns[C::reasons]);
+    // The walk below is a Dijkstra search: a negative length would make it loop for ever.
+    if (!(std::isfinite(s.length_m) && s.length_m >= 0.0)) {
+      throw detail::corrupt_segment_error(
+          detail::segment_problem(s.id, "length_m must be a finite number >= 0"));
+    }
+    if (!schema::decode_linestring(query.column_blob(1), s.points)) {
+      throw detail::corrupt_segment_error(detail::segment_problem(s.id, "malformed geometry"));
+    }
+    const int box = kColumns[C::sidewalk_right] + 1;  // r.minx: after the last selected column
+    detail::check_in_box(s.id, s.points, query.column_double(box), query.column_double(box + 1),
+                         query.column_double(box + 2), query.column_double(box + 3));
+    const std::int64_t score = query.column_int64(kColumns[C::score]);
+    const std::int64_t context = query.column_int64(kColumns[C::context_score]);
+    // The ranges assess checks (score 1..15, |context| <= 1e6): their sum fits an int.
+    const bool has_score = !query.column_is_null(kColumns[C::score]);
+    if ((has_score && (score < 1 || score > 15)) || context < -1000000 || context > 1000000) {
+      throw detail::corrupt_segment_error(
+          detail::segment_problem(s.id, "score or context_score out of range"));
+    }
+    if (has_score) s.score = static_cast<int>(score);
+    if (!query.column_is_null(kColumns[C::context_score])) s.context = static_cast<int>(context);
+    s.reasons = detail::valid_utf8(query.column_text_view(kColumns[C::reasons]));
     s.tunnel = query.column_int64(kColumns[C::tunnel]) != 0;
     s.no_crossing = query.column_int64(kColumns[C::override_no_crossing]) != 0;
     s.force_suitable = query.column_int64(kColumns[C::override_force_suitable]) != 0;
@@ -112,12 +129,14 @@ struct Reached {
 
 Result<BetterPlaces> Map::better_place(const Position& position,
                                        const BetterPlaceOptions& options) noexcept {
-  if (!(options.search_radius_m > 0.0)) {
-    return Result<BetterPlaces>{Status{StatusCode::invalid_argument, "search_radius_m must be > 0"},
-                                std::nullopt};
+  if (!(options.search_radius_m > 0.0 && options.search_radius_m <= detail::kMaxWalkingRadiusM)) {
+    return Result<BetterPlaces>{
+        Status{StatusCode::invalid_argument, "search_radius_m must be in (0, 10000] metres"},
+        std::nullopt};
   }
   Result<Assessment> here = assess(position, options.assess);
   if (!here.ok()) return Result<BetterPlaces>{here.status, std::nullopt};
+  impl_->budget->restart();
   try {
     const schema::PlanePoint robot{here->road.query.easting_m, here->road.query.northing_m};
     std::vector<LocalSegment> local = load_neighbourhood(impl_->db, impl_->info.schema_version,
@@ -287,8 +306,7 @@ Result<BetterPlaces> Map::better_place(const Position& position,
     }
     return Result<BetterPlaces>{Status{}, std::move(result)};
   } catch (const std::exception& e) {
-    return Result<BetterPlaces>{
-        Status{StatusCode::corrupt_database, impl_->info.path + ": " + e.what()}, std::nullopt};
+    return Result<BetterPlaces>{detail::status_of(e, impl_->info.path), std::nullopt};
   }
 }
 

@@ -2,6 +2,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -40,6 +41,8 @@ const char* to_string(StatusCode code) noexcept {
       return "not_found";
     case StatusCode::internal:
       return "internal";
+    case StatusCode::corrupt_segment:
+      return "corrupt_segment";
   }
   return "unknown";
 }
@@ -57,6 +60,155 @@ constexpr std::int64_t kMmapBytes = std::int64_t{1} << 30;
 template <typename T>
 Result<T> fail(StatusCode code, std::string message) {
   return Result<T>{Status{code, std::move(message)}, std::nullopt};
+}
+
+/// The longest string or blob a map may make SQLite read (SQLITE_LIMIT_LENGTH): a roadcross
+/// map's longest values are metadata notes and paths, far below this; a hostile map's 1 GB
+/// "name" is refused instead of copied into every answer.
+constexpr int kMaxValueBytes = 16 << 20;
+
+/// SQLite's progress handler: interrupts the statement when the call's budget is spent.
+int spend_work(void* budget) noexcept {
+  auto* b = static_cast<detail::WorkBudget*>(budget);
+  if (b->ticks_left == 0) return 1;
+  --b->ticks_left;
+  return 0;
+}
+
+/// A file URI for sqlite3_open_v2 with SQLITE_OPEN_URI: every byte outside RFC 3986's
+/// unreserved set and '/' percent-encoded, so that no '?', '#' or '%' in a path is read as URI
+/// syntax.
+std::string file_uri(const std::string& path, std::string_view query) {
+  static constexpr char kHex[] = "0123456789ABCDEF";
+  std::string uri = "file:";
+  for (unsigned char c : path) {
+    if (std::isalnum(c) || c == '/' || c == '-' || c == '_' || c == '.' || c == '~') {
+      uri += static_cast<char>(c);
+    } else {
+      uri += '%';
+      uri += kHex[c >> 4];
+      uri += kHex[c & 15];
+    }
+  }
+  return uri + "?" + std::string(query);
+}
+
+/// How the file's journal is set up, from its SQLite header (bytes 18 and 19: 1 = rollback
+/// journal, 2 = WAL). A file too short to have a header reads as rollback; SQLite then says
+/// what is wrong with it.
+bool header_says_wal(const std::string& path) {
+  std::FILE* file = std::fopen(path.c_str(), "rb");
+  if (!file) return false;
+  unsigned char header[20] = {};
+  const std::size_t got = std::fread(header, 1, sizeof header, file);
+  std::fclose(file);
+  return got == sizeof header && (header[18] == 2 || header[19] == 2);
+}
+
+/// Opens the map read-only. A map in WAL journal mode (left so by a tool that opened it for
+/// writing) cannot be read-only opened with the runtime's exclusive locking; with no pending
+/// WAL content everything is in the main file, which is then opened as immutable. Pending WAL
+/// content (a "-wal" file that is not empty) is an error saying how to merge it.
+sqlite::Database open_read_only(const std::string& path, Status& status) {
+  constexpr int kFlags = SQLITE_OPEN_READONLY | SQLITE_OPEN_NOMUTEX;
+  if (!header_says_wal(path)) return sqlite::Database(path, kFlags);
+  struct stat wal_status {};
+  const std::string wal = path + "-wal";
+  if (::stat(wal.c_str(), &wal_status) == 0 && wal_status.st_size > 0) {
+    status = {StatusCode::not_a_database,
+              path + ": the map is in WAL journal mode with changes not yet merged into it (" +
+                  wal + ", " + std::to_string(wal_status.st_size) +
+                  " bytes): merge them with sqlite3 " + path +
+                  " 'PRAGMA journal_mode = DELETE', or rebuild the map. " + kRebuildHint};
+  }
+  return sqlite::Database(file_uri(path, "immutable=1"), kFlags | SQLITE_OPEN_URI);
+}
+
+/// The connection settings for a file from anywhere: SQLite's defensive mode (no writes to
+/// the schema or to shadow tables even by a bug), an untrusted schema (no application
+/// functions in views, triggers or indexes), no views and no triggers at all (a roadcross map
+/// has no views, and its triggers only maintain the R*Tree on writes, which the runtime never
+/// makes), values up to kMaxValueBytes, and the work budget.
+void harden(sqlite::Database& db, detail::WorkBudget& budget) {
+  sqlite3* handle = db.handle();
+  for (const auto& [option, value] :
+       {std::pair{SQLITE_DBCONFIG_DEFENSIVE, 1}, std::pair{SQLITE_DBCONFIG_TRUSTED_SCHEMA, 0},
+        std::pair{SQLITE_DBCONFIG_ENABLE_VIEW, 0}, std::pair{SQLITE_DBCONFIG_ENABLE_TRIGGER, 0}}) {
+    int now = -1;
+    if (sqlite3_db_config(handle, option, value, &now) != SQLITE_OK || now != value) {
+      throw sqlite::sqlite_error(SQLITE_ERROR, "cannot configure SQLite defensively");
+    }
+  }
+  sqlite3_limit(handle, SQLITE_LIMIT_LENGTH, kMaxValueBytes);
+  sqlite3_progress_handler(handle, detail::WorkBudget::kStepsPerTick, spend_work, &budget);
+}
+
+bool ends_with(std::string_view text, std::string_view tail) {
+  return text.size() >= tail.size() && text.substr(text.size() - tail.size()) == tail;
+}
+
+/// A trigger a GeoPackage may carry: the R*Tree triggers (spec F.3), the tile pyramid ones,
+/// the core spec's own (gpkg_*) and GDAL's feature-count triggers. They never run here (triggers
+/// are off and the connection is read-only); any other trigger means the file was altered.
+bool known_trigger(std::string_view name) {
+  if (name.starts_with("gpkg_") || name.starts_with("trigger_insert_feature_count_") ||
+      name.starts_with("trigger_delete_feature_count_")) {
+    return true;
+  }
+  // The tile pyramid triggers of a tiles table (GeoPackage 1.3, annex F.5), such as the
+  // build's terrain tiles.
+  for (std::string_view tail : {"_zoom_insert", "_zoom_update", "_tile_column_insert",
+                                "_tile_column_update", "_tile_row_insert", "_tile_row_update"}) {
+    if (ends_with(name, tail)) return true;
+  }
+  if (!name.starts_with("rtree_")) return false;
+  for (std::string_view tail :
+       {"_insert", "_update1", "_update2", "_update3", "_update4", "_delete"}) {
+    if (ends_with(name, tail)) return true;
+  }
+  return false;
+}
+
+/// Rejects schema objects that are neither the GeoPackage's nor roadcross's: views, unknown
+/// triggers, virtual tables other than R*Trees, and a segments, metadata or R*Tree table of the
+/// wrong kind (a `segments` view could run for ever). Ordinary extra tables and indexes are
+/// inert data the runtime never reads, and tools that touch a GeoPackage add some (GDAL's
+/// gpkg_ogr_contents), so they are allowed.
+Status check_schema_objects(sqlite::Database& db, const std::string& path) {
+  auto rows = db.prepare("SELECT type, name, coalesce(sql, '') FROM sqlite_master");
+  bool segments_ok = false, rtree_ok = false;
+  while (rows.step()) {
+    const std::string type = rows.column_text(0), name = rows.column_text(1);
+    std::string sql = rows.column_text(2);
+    for (char& c : sql) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    const bool is_virtual = sql.starts_with("create virtual table");
+    const bool is_rtree = is_virtual && sql.find("using rtree(") != std::string::npos;
+    std::string problem;
+    if (type == "view") {
+      problem = "a view '" + name + "' (a roadcross map has none)";
+    } else if (type == "trigger" && !known_trigger(name)) {
+      problem = "a trigger '" + name + "' that is not one of the GeoPackage's";
+    } else if (type == "table" && is_virtual && !(is_rtree && name.starts_with("rtree_"))) {
+      problem = "a virtual table '" + name + "' that is not a GeoPackage R*Tree";
+    } else if (type == "table" && name == schema::kSegmentsTable) {
+      segments_ok = !is_virtual;
+    } else if (type == "table" && name == schema::kSegmentsRtree) {
+      rtree_ok = is_rtree;
+    }
+    if (!problem.empty()) {
+      return {StatusCode::corrupt_database,
+              path + ": the map holds " + problem +
+                  ", so it was altered after roadcross-build wrote it and is not read. " +
+                  kRebuildHint};
+    }
+  }
+  if (!segments_ok || !rtree_ok) {
+    return {StatusCode::corrupt_database,
+            path + ": the map lacks an ordinary '" + std::string(schema::kSegmentsTable) +
+                "' table with its R*Tree '" + std::string(schema::kSegmentsRtree) + "'. " +
+                kRebuildHint};
+  }
+  return {};
 }
 
 bool parse_int(const std::string& text, int& out) {
@@ -100,9 +252,14 @@ Status read_metadata(sqlite::Database& db, MapInfo& info) {
                   std::string(schema::kMetadataTable) + "). " + kRebuildHint};
     }
   }
+  const Status objects = check_schema_objects(db, path);
+  if (!objects.ok()) return objects;
   auto rows =
       db.prepare("SELECT key, value FROM " + std::string(schema::kMetadataTable) + " ORDER BY key");
-  while (rows.step()) info.metadata.emplace_back(rows.column_text(0), rows.column_text(1));
+  while (rows.step()) {
+    info.metadata.emplace_back(detail::valid_utf8(rows.column_text_view(0)),
+                               detail::valid_utf8(rows.column_text_view(1)));
+  }
 
   auto value_of = [&](std::string_view key) -> const std::string* {
     for (const auto& [k, v] : info.metadata) {
@@ -169,7 +326,11 @@ Result<Map> Map::open(const std::string& path) noexcept {
           StatusCode::file_not_found,
           path + ": no such file. Build one with roadcross-build --osm MAP -o " + path);
     }
-    sqlite::Database db(path, SQLITE_OPEN_READONLY | SQLITE_OPEN_NOMUTEX);
+    Status status;
+    sqlite::Database db = open_read_only(path, status);
+    if (!status.ok()) return Result<Map>{std::move(status), std::nullopt};
+    auto budget = std::make_unique<detail::WorkBudget>();
+    harden(db, *budget);
     // Hot-path settings (docs/runtime.md, "The DB file while a Map is open"): keep the shared
     // lock from the first read on, so a statement neither takes and drops a file lock nor checks
     // for a hot journal and a changed file (three system calls per statement otherwise), and
@@ -178,9 +339,12 @@ Result<Map> Map::open(const std::string& path) noexcept {
     db.exec("PRAGMA mmap_size = " + std::to_string(kMmapBytes));
     MapInfo info;
     info.path = path;
-    Status status = read_metadata(db, info);
+    status = read_metadata(db, info);
+    detail::Thresholds thresholds;
+    if (status.ok()) status = detail::thresholds_from(info, thresholds);
     if (!status.ok()) return Result<Map>{std::move(status), std::nullopt};
-    auto impl = std::make_unique<Impl>(std::move(db), std::move(info));
+    auto impl =
+        std::make_unique<Impl>(std::move(budget), std::move(db), std::move(info), thresholds);
     return Result<Map>{Status{}, Map(std::move(impl))};
   } catch (const sqlite::sqlite_error& e) {
     if ((e.code() & 0xff) == SQLITE_NOTADB) {
@@ -189,6 +353,9 @@ Result<Map> Map::open(const std::string& path) noexcept {
     }
     if ((e.code() & 0xff) == SQLITE_CANTOPEN) {
       return fail<Map>(StatusCode::file_not_found, path + ": cannot open: " + e.what());
+    }
+    if ((e.code() & 0xff) == SQLITE_INTERRUPT || (e.code() & 0xff) == SQLITE_TOOBIG) {
+      return Result<Map>{detail::status_of(e, path), std::nullopt};
     }
     return fail<Map>(StatusCode::not_a_database, path + ": " + e.what());
   } catch (const std::exception& e) {
@@ -237,14 +404,21 @@ Status Map::Impl::locate(const Position& position, double max_distance_m, Neares
     stmt.bind(3, p.y - radius_m);
     stmt.bind(4, p.y + radius_m);
     while (stmt.step()) {
+      const std::int64_t fid = stmt.column_int64(0);
       if (!schema::decode_linestring(stmt.column_blob(1), scratch)) {
-        const std::int64_t fid = stmt.column_int64(0);
         stmt.reset();
-        throw std::runtime_error("segment " + std::to_string(fid) + " has a malformed geometry");
+        throw detail::corrupt_segment_error(detail::segment_problem(fid, "malformed geometry"));
+      }
+      try {
+        detail::check_in_box(fid, scratch, stmt.column_double(2), stmt.column_double(3),
+                             stmt.column_double(4), stmt.column_double(5));
+      } catch (...) {
+        stmt.reset();
+        throw;
       }
       const auto projection = detail::project_onto_polyline(scratch, p);
       if (projection.distance_m < best.distance_m) {
-        best_id = stmt.column_int64(0);
+        best_id = fid;
         best = projection;
         best_geometry.swap(scratch);
       }
@@ -266,9 +440,11 @@ Status Map::Impl::locate(const Position& position, double max_distance_m, Neares
 }
 
 Result<NearestRoad> Map::nearest(const Position& position, double max_distance_m) noexcept {
-  if (!(max_distance_m > 0.0)) {
-    return fail<NearestRoad>(StatusCode::invalid_argument, "max_distance_m must be > 0");
+  if (!(max_distance_m > 0.0 && max_distance_m <= detail::kMaxSearchDistanceM)) {
+    return fail<NearestRoad>(StatusCode::invalid_argument,
+                             "max_distance_m must be in (0, 100000] metres");
   }
+  impl_->budget->restart();
   try {
     Impl& impl = *impl_;
     NearestRoad road;
@@ -280,16 +456,20 @@ Result<NearestRoad> Map::nearest(const Position& position, double max_distance_m
       using C = schema::SegmentColumn;
       const schema::SegmentSelection& at = detail::kIdentityColumns;
       road.osm_way_id = attributes.column_int64(at[C::osm_way_id]);
-      road.highway = attributes.column_text_view(at[C::highway]);
-      road.name = attributes.column_text_view(at[C::name]);
+      road.highway = detail::valid_utf8(attributes.column_text_view(at[C::highway]));
+      road.name = detail::valid_utf8(attributes.column_text_view(at[C::name]));
       road.segment_length_m = attributes.column_double(at[C::length_m]);
     }
     attributes.reset();
+    if (!(road.segment_length_m >= 0.0 && std::isfinite(road.segment_length_m))) {
+      throw detail::corrupt_segment_error(
+          detail::segment_problem(road.segment_id, "length_m must be a finite number >= 0"));
+    }
     return Result<NearestRoad>{Status{}, std::move(road)};
   } catch (const std::exception& e) {
     impl_->queries.candidates.reset();
     impl_->queries.attributes.reset();
-    return fail<NearestRoad>(StatusCode::corrupt_database, impl_->info.path + ": " + e.what());
+    return Result<NearestRoad>{detail::status_of(e, impl_->info.path), std::nullopt};
   }
 }
 
@@ -339,7 +519,14 @@ double Map::Impl::direction_at(std::int64_t segment_id, const detail::PolylinePr
     }
     if (!schema::decode_linestring(stmt.column_blob(1), scratch)) {
       stmt.reset();
-      throw std::runtime_error("segment " + std::to_string(fid) + " has a malformed geometry");
+      throw detail::corrupt_segment_error(detail::segment_problem(fid, "malformed geometry"));
+    }
+    try {
+      detail::check_in_box(fid, scratch, stmt.column_double(4), stmt.column_double(5),
+                           stmt.column_double(6), stmt.column_double(7));
+    } catch (...) {
+      stmt.reset();
+      throw;
     }
     const std::size_t n = scratch.size();
     others.push_back({stmt.column_int64(from_column), stmt.column_int64(to_column),
@@ -382,7 +569,7 @@ Result<RoadHeading> Map::road_heading(const Position& position, double max_dista
     heading.road_heading_rad = impl_->direction_at(road->segment_id, at);
   } catch (const std::exception& e) {
     impl_->queries.segments_at.reset();
-    return fail<RoadHeading>(StatusCode::corrupt_database, impl_->info.path + ": " + e.what());
+    return Result<RoadHeading>{detail::status_of(e, impl_->info.path), std::nullopt};
   }
   // Which side of the road is the query on? The sign of the cross product of the road
   // direction with the vector from the road to the query: > 0 means left of the way direction.
@@ -407,5 +594,101 @@ Result<RoadHeading> Map::road_heading(const Position& position, double max_dista
   heading.road = std::move(*road);
   return Result<RoadHeading>{Status{}, std::move(heading)};
 }
+
+namespace detail {
+
+namespace {
+/// The length of the valid UTF-8 sequence at the start of `s` (1..4), or 0 when it is not one
+/// (RFC 3629: no overlong forms, no surrogates, nothing above U+10FFFF).
+std::size_t utf8_sequence_length(std::string_view s) {
+  const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(s[i]); };
+  const unsigned char lead = byte(0);
+  if (lead < 0x80) return 1;
+  std::size_t length = 0;
+  unsigned char low = 0x80, high = 0xBF;  // range of the second byte
+  if (lead >= 0xC2 && lead <= 0xDF) {
+    length = 2;
+  } else if (lead >= 0xE0 && lead <= 0xEF) {
+    length = 3;
+    if (lead == 0xE0) low = 0xA0;
+    if (lead == 0xED) high = 0x9F;
+  } else if (lead >= 0xF0 && lead <= 0xF4) {
+    length = 4;
+    if (lead == 0xF0) low = 0x90;
+    if (lead == 0xF4) high = 0x8F;
+  } else {
+    return 0;
+  }
+  if (s.size() < length || byte(1) < low || byte(1) > high) return 0;
+  for (std::size_t i = 2; i < length; ++i) {
+    if (byte(i) < 0x80 || byte(i) > 0xBF) return 0;
+  }
+  return length;
+}
+}  // namespace
+
+std::string valid_utf8(std::string_view text) {
+  const bool ascii = std::all_of(text.begin(), text.end(),
+                                 [](char c) { return static_cast<unsigned char>(c) < 0x80; });
+  if (ascii) return std::string(text);
+  std::string out;
+  out.reserve(text.size() + 8);
+  while (!text.empty()) {
+    const std::size_t length = utf8_sequence_length(text);
+    if (length == 0) {
+      out += "\xEF\xBF\xBD";  // U+FFFD REPLACEMENT CHARACTER
+      text.remove_prefix(1);
+    } else {
+      out.append(text.substr(0, length));
+      text.remove_prefix(length);
+    }
+  }
+  return out;
+}
+
+std::string segment_problem(std::int64_t fid, const std::string& what) {
+  return "segment " + std::to_string(fid) + ": " + what;
+}
+
+void check_in_box(std::int64_t fid, const std::vector<schema::PlanePoint>& points, double min_x,
+                  double max_x, double min_y, double max_y) {
+  for (const schema::PlanePoint& p : points) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y)) {
+      throw corrupt_segment_error(segment_problem(fid, "a geometry coordinate is not finite"));
+    }
+    // Negated so that a NaN box edge fails too.
+    if (!(p.x >= min_x && p.x <= max_x && p.y >= min_y && p.y <= max_y)) {
+      char text[200];
+      std::snprintf(text, sizeof text,
+                    "its R*Tree box (E %.1f..%.1f, N %.1f..%.1f) does not contain its point "
+                    "E %.1f N %.1f",
+                    min_x, max_x, min_y, max_y, p.x, p.y);
+      throw corrupt_segment_error(segment_problem(fid, text));
+    }
+  }
+}
+
+Status status_of(const std::exception& error, const std::string& path) {
+  if (dynamic_cast<const corrupt_segment_error*>(&error)) {
+    return {StatusCode::corrupt_segment,
+            path + ": " + error.what() + ". The map is damaged there. " + kRebuildHint};
+  }
+  if (const auto* sql = dynamic_cast<const sqlite::sqlite_error*>(&error)) {
+    if ((sql->code() & 0xff) == SQLITE_INTERRUPT) {
+      return {StatusCode::corrupt_database,
+              path + ": a query made SQLite do more than " +
+                  std::to_string(WorkBudget::kTicksPerCall * WorkBudget::kStepsPerTick) +
+                  " steps of work and was stopped: the map is damaged or hostile. " + kRebuildHint};
+    }
+    if ((sql->code() & 0xff) == SQLITE_TOOBIG) {
+      return {StatusCode::corrupt_database,
+              path + ": a value in the map is longer than " + std::to_string(kMaxValueBytes) +
+                  " bytes, which no roadcross map holds. " + kRebuildHint};
+    }
+  }
+  return {StatusCode::corrupt_database, path + ": " + error.what()};
+}
+
+}  // namespace detail
 
 }  // namespace roadcross

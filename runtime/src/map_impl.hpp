@@ -2,7 +2,11 @@
 // and geometry queries, assess.cpp for the cost terms). Not installed.
 #pragma once
 
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "polyline.hpp"
@@ -14,6 +18,47 @@
 namespace roadcross {
 
 namespace detail {
+
+/// Bounds of the per-call search distances (AssessOptions::max_distance_m, nearest's and
+/// road_heading's max_distance_m; BetterPlaceOptions::search_radius_m), metres: beyond them a
+/// query reads a whole country's segments.
+inline constexpr double kMaxSearchDistanceM = 100000.0;
+inline constexpr double kMaxWalkingRadiusM = 10000.0;
+
+/// `text` with every byte sequence that is not valid UTF-8 replaced by U+FFFD: text read from
+/// a map (names, tags, notes, metadata) reaches JSON, Python and ROS, which all need UTF-8.
+/// ASCII text (almost every value) is returned unchanged without a scan beyond its bytes.
+std::string valid_utf8(std::string_view text);
+
+/// A segment row that cannot be right; becomes StatusCode::corrupt_segment at the API boundary.
+class corrupt_segment_error : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// "segment FID: WHAT" for corrupt_segment_error messages.
+std::string segment_problem(std::int64_t fid, const std::string& what);
+
+/// Throws corrupt_segment_error unless every point of segment `fid`'s geometry is finite and
+/// inside its R*Tree box (SQLite rounds the box outwards to float32, so a correct box holds its
+/// segment exactly): a box that does not hold its segment would answer about another road.
+void check_in_box(std::int64_t fid, const std::vector<schema::PlanePoint>& points, double min_x,
+                  double max_x, double min_y, double max_y);
+
+/// How much work one API call may make SQLite do, counted by SQLite's progress handler (every
+/// kStepsPerTick virtual-machine instructions): a bound on hostile maps whose statements would
+/// run for ever. Restarted at the start of every public Map call; far above what a query of
+/// the largest bundled map needs (docs/reliability-runtime.md).
+struct WorkBudget {
+  static constexpr int kStepsPerTick = 4096;
+  static constexpr std::uint64_t kTicksPerCall = 100000;  // ~4e8 instructions, seconds of work
+  std::uint64_t ticks_left = kTicksPerCall;
+  void restart() noexcept { ticks_left = kTicksPerCall; }
+};
+
+/// The Status for an exception caught at the API boundary: corrupt_segment for a damaged row,
+/// corrupt_database for an interrupted (too much work), oversized or malformed read.
+Status status_of(const std::exception& error, const std::string& path);
 
 /// Prepared once per Map, reused by every query (SQLite's advice for hot paths).
 struct Queries {
@@ -53,11 +98,17 @@ struct Thresholds {
   double max_kerb_height_m = 1.0;
 };
 
-Thresholds thresholds_from(const MapInfo& info);
+/// The thresholds recorded in `info`'s metadata; a recorded value that is not a finite number
+/// in range is an error naming the key (returned as a non-ok Status).
+Status thresholds_from(const MapInfo& info, Thresholds& out);
+
+/// invalid_argument unless every per-call threshold is finite and in range.
+Status check_assess_options(const AssessOptions& options);
 
 }  // namespace detail
 
 struct Map::Impl {
+  std::unique_ptr<detail::WorkBudget> budget;  // owned here, given to SQLite's progress handler
   sqlite::Database db;
   MapInfo info;
   detail::Queries queries;
@@ -65,11 +116,13 @@ struct Map::Impl {
   std::vector<schema::PlanePoint> scratch;  // reused geometry buffer: no allocation per query
   std::vector<schema::PlanePoint> best_geometry;
 
-  Impl(sqlite::Database&& database, MapInfo&& map_info)
-      : db(std::move(database)),
+  Impl(std::unique_ptr<detail::WorkBudget> work_budget, sqlite::Database&& database,
+       MapInfo&& map_info, detail::Thresholds map_thresholds)
+      : budget(std::move(work_budget)),
+        db(std::move(database)),
         info(std::move(map_info)),
         queries(db, info.schema_version),
-        thresholds(detail::thresholds_from(info)) {}
+        thresholds(map_thresholds) {}
 
   /// The position in the map's UTM zone, or invalid_argument.
   Status to_plane(const Position& position, schema::PlanePoint& out) const noexcept;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <vector>
 
@@ -97,17 +98,37 @@ struct Lane {
   std::vector<Vehicle> vehicles;  ///< leader first
 };
 
+/// Every value in the range the simulation is meant for: outside it a run would not end (a
+/// robot crawling at 1e-9 m/s), allocate without bound (2e9 lanes) or mean nothing.
 Status check(const Scenario& s) {
-  const auto positive = [](double v) { return std::isfinite(v) && v > 0; };
-  if (s.road.lanes < 1 || !positive(s.road.width_m) || !positive(s.road.maxspeed_kmh) ||
-      !positive(s.road.sight_m)) {
-    return {StatusCode::invalid_argument, "simulate: road width, lanes, maxspeed, sight > 0"};
-  }
-  if (!(s.volume_veh_h_per_lane >= 0) || !positive(s.step_s) || !positive(s.decision_period_s) ||
-      !positive(s.max_wait_s) || !positive(s.vehicle_length_m) || !positive(s.robot.speed_mps) ||
-      !(s.warmup_s >= 0) || !(s.kerb_offset_m >= 0) || !positive(s.naive_distance_m)) {
-    return {StatusCode::invalid_argument,
-            "simulate: volume >= 0; steps, waits, lengths, speeds > 0"};
+  struct Bound {
+    const char* name;
+    double value, min, max;
+  };
+  const Bound bounds[] = {
+      {"lanes", static_cast<double>(s.road.lanes), 1, 16},
+      {"road width (m)", s.road.width_m, 1, 100},
+      {"maxspeed (km/h)", s.road.maxspeed_kmh, 1, 300},
+      {"sight (m)", s.road.sight_m, 1, 5000},
+      {"volume (vehicles/h per lane)", s.volume_veh_h_per_lane, 0, 3600},
+      {"robot speed (m/s)", s.robot.speed_mps, 0.1, 10},
+      {"robot start-up time (s)", s.robot.startup_s, 0, 60},
+      {"max wait (s)", s.max_wait_s, 1, 3600},
+      {"warm-up (s)", s.warmup_s, 0, 3600},
+      {"step (s)", s.step_s, 0.001, 1},
+      {"decision period (s)", s.decision_period_s, 0.001, 10},
+      {"vehicle length (m)", s.vehicle_length_m, 1, 30},
+      {"kerb offset (m)", s.kerb_offset_m, 0, 10},
+      {"naive distance (m)", s.naive_distance_m, 0.1, 5000},
+      {"conflict PET (s)", s.conflict_pet_s, 0, 60},
+  };
+  for (const Bound& b : bounds) {
+    if (!(b.value >= b.min && b.value <= b.max)) {  // negated: NaN fails too
+      char text[160];
+      std::snprintf(text, sizeof text, "simulate: %s is %g, must be in [%g, %g]", b.name, b.value,
+                    b.min, b.max);
+      return {StatusCode::invalid_argument, text};
+    }
   }
   return {};
 }
@@ -391,7 +412,9 @@ std::uint64_t run_seed(std::uint64_t seed, int index) noexcept {
 }
 
 Result<Aggregate> simulate(const Scenario& scenario, int runs, std::uint64_t seed) noexcept {
-  if (runs < 1) return {Status{StatusCode::invalid_argument, "simulate: runs must be >= 1"}, {}};
+  if (runs < 1 || runs > kMaxRuns) {
+    return {Status{StatusCode::invalid_argument, "simulate: runs must be in [1, 100000]"}, {}};
+  }
   Aggregate a;
   std::vector<double> waits;
   int used = 0, offered = 0;

@@ -27,6 +27,11 @@ enum class StatusCode {
   invalid_argument,  ///< NaN, out-of-range latitude/longitude, position outside the map's zone
   not_found,         ///< no road in the map near enough to answer
   internal,          ///< an unexpected SQLite error
+  /// One segment's row cannot be right (a non-finite or out-of-range value, a negative length,
+  /// an unknown reason code, an index box that does not contain the segment, flags that
+  /// contradict the reasons): the map is damaged there, so no verdict is given. The message
+  /// names the segment (fid and OSM way) and what is wrong.
+  corrupt_segment,
 };
 
 const char* to_string(StatusCode code) noexcept;
@@ -120,14 +125,18 @@ struct RoadHeading {
 
 /// Per-call overrides of the DB's suitability thresholds (unset = the DB's value, recorded at
 /// build time as param.suitability.*, or the thesis' default for older DBs).
+/// Every value must be finite (NaN and infinities are invalid_argument).
 struct AssessOptions {
-  std::optional<double> valid_distance_m;  ///< a position is valid within this of a centreline
-  std::optional<double> threshold;         ///< suitable when score + context_score >= this
-  double max_distance_m = 1000.0;          ///< how far to look for the nearest road, metres
-  /// The robot's capability: the highest kerb it climbs, metres, >= 0. A known kerb higher
-  /// than this makes a place unsuitable (KERB_TOO_HIGH); an unknown kerb never does. Unset: the
-  /// map profile's param.suitability.max_kerb_height_m (1 m, i.e. no limit, in maps built
-  /// without a robot profile and in DBs older than schema version 3).
+  /// A position is valid within this of a centreline, metres, >= 0.
+  std::optional<double> valid_distance_m;
+  /// Suitable when score + context_score >= this (a score, unitless, finite).
+  std::optional<double> threshold;
+  /// How far to look for the nearest road, metres, in (0, 100 000].
+  double max_distance_m = 1000.0;
+  /// The robot's capability: the highest kerb it climbs, metres, finite and >= 0. A known kerb
+  /// higher than this makes a place unsuitable (KERB_TOO_HIGH); an unknown kerb never does.
+  /// Unset: the map profile's param.suitability.max_kerb_height_m (1 m, i.e. no limit, in maps
+  /// built without a robot profile and in DBs older than schema version 3).
   std::optional<double> max_kerb_height_m;
 };
 
@@ -172,7 +181,7 @@ struct Assessment {
 };
 
 struct BetterPlaceOptions {
-  double search_radius_m = 100.0;  ///< walking distance along the road, metres, > 0
+  double search_radius_m = 100.0;  ///< walking distance along the road, metres, (0, 10 000]
   std::size_t max_candidates = 5;  ///< at most this many, best first
   AssessOptions assess;            ///< thresholds applied to every candidate
 };

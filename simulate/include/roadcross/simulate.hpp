@@ -98,7 +98,13 @@ Result<RunMetrics> simulate_run(const Scenario& scenario, std::uint64_t seed) no
 /// The seed of run `index` (0-based) of simulate(scenario, runs, seed).
 std::uint64_t run_seed(std::uint64_t seed, int index) noexcept;
 
-/// `runs` runs with seeds run_seed(seed, 0 .. runs - 1), aggregated.
+/// The most runs one simulate() call makes (each run simulates minutes of traffic).
+inline constexpr int kMaxRuns = 100000;
+
+/// `runs` runs (1..kMaxRuns) with seeds run_seed(seed, 0 .. runs - 1), aggregated.
+/// invalid_argument when a scenario value is outside the range the simulation is meant for
+/// (lanes 1..16, width 1..100 m, maxspeed 1..300 km/h, sight 1..5000 m, volume 0..3600
+/// vehicles/h per lane, robot speed 0.1..10 m/s, waits up to an hour; the message names it).
 Result<Aggregate> simulate(const Scenario& scenario, int runs, std::uint64_t seed) noexcept;
 
 }  // namespace roadcross::sim

@@ -85,6 +85,8 @@ class Statement {
   std::int64_t column_int64(int i) const { return sqlite3_column_int64(stmt_, i); }
   double column_double(int i) const { return sqlite3_column_double(stmt_, i); }
   bool column_is_null(int i) const { return sqlite3_column_type(stmt_, i) == SQLITE_NULL; }
+  /// SQLITE_INTEGER, SQLITE_FLOAT, SQLITE_TEXT, SQLITE_BLOB or SQLITE_NULL.
+  int column_type(int i) const { return sqlite3_column_type(stmt_, i); }
   std::string column_text(int i) const;
   /// The text of column `i` without a copy: valid until the next step() or reset().
   std::string_view column_text_view(int i) const {
