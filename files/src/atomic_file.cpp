@@ -120,8 +120,9 @@ void check_output_path(const std::string& path) {
   if (path.empty()) throw std::runtime_error("no output path given (an empty name)");
   const std::string folder = folder_of(path);
   struct stat st {};
-  if (::stat(folder.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) {
-    fail(path, "folder " + folder + " does not exist");
+  if (::stat(folder.c_str(), &st) != 0) fail(path, "folder " + folder + " does not exist");
+  if (!S_ISDIR(st.st_mode)) {
+    fail(path, folder + " is not a folder");
   }
   if (::access(folder.c_str(), W_OK) != 0) {
     fail(path, "folder " + folder + " is not writable (" + errno_text() + ")");

@@ -47,10 +47,10 @@ OSM
 expect_failure "no roads" "$WORK/footways.osm" "none is a road" -- "$ROADCROSS_BUILD" --osm "$WORK/footways.osm" -o "$out"
 no_output_left "no roads"
 
-expect_failure "output in a missing directory" "$WORK/nowhere/map.gpkg" "cannot create the output" -- \
+expect_failure "output in a missing directory" "$WORK/nowhere/map.gpkg" "folder $WORK/nowhere does not exist" -- \
   "$ROADCROSS_BUILD" --osm "$PRAGUE_OSM" -o "$WORK/nowhere/map.gpkg"
 : >"$WORK/a_file"
-expect_failure "output under a file" "$WORK/a_file/map.gpkg" "cannot create the output" -- \
+expect_failure "output under a file" "$WORK/a_file/map.gpkg" "$WORK/a_file is not a folder" -- \
   "$ROADCROSS_BUILD" --osm "$PRAGUE_OSM" -o "$WORK/a_file/map.gpkg"
 
 expect_failure "negative segment length" "segments.max_segment_length_m" "-1" -- \
