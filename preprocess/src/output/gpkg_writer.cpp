@@ -17,10 +17,11 @@
 #include <random>
 #include <stdexcept>
 
-#include "roadcross/preprocess/output/bulk_insert.hpp"
+#include "roadcross/geo_box.hpp"
 #include "roadcross/preprocess/common/errors.hpp"
 #include "roadcross/preprocess/common/interrupt.hpp"
 #include "roadcross/preprocess/common/progress.hpp"
+#include "roadcross/preprocess/output/bulk_insert.hpp"
 #include "roadcross/preprocess/output/rtree_bulk_load.hpp"
 #include "roadcross/schema/gpkg_geometry.hpp"
 #include "roadcross/schema/schema.hpp"
@@ -424,6 +425,33 @@ void GeoPackageWriter::finish(const DatabaseContents& contents, Progress& progre
                         " crossings");
 }
 
+namespace {
+
+std::string fixed(double value, int decimals) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.*f", decimals, value);
+  return text;
+}
+
+/// The coverage keys (schema::meta::kCoverage*) of a map whose segments span `extent`.
+std::vector<std::pair<std::string_view, std::string>> coverage_metadata(
+    const geo::UtmZone& zone, const schema::Envelope& extent) {
+  // Millimetres and 1e-9 degrees (0.1 mm): rounding that never matters beside the set's
+  // search margins, and fixed decimals keep the metadata deterministic.
+  const geo::LatLonBox box =
+      geo::wgs84_box_of_utm_rectangle(zone, extent.min_x, extent.min_y, extent.max_x, extent.max_y);
+  return {{schema::meta::kCoverageMinEasting, fixed(extent.min_x, 3)},
+          {schema::meta::kCoverageMinNorthing, fixed(extent.min_y, 3)},
+          {schema::meta::kCoverageMaxEasting, fixed(extent.max_x, 3)},
+          {schema::meta::kCoverageMaxNorthing, fixed(extent.max_y, 3)},
+          {schema::meta::kCoverageMinLat, fixed(box.min_lat_deg, 9)},
+          {schema::meta::kCoverageMinLon, fixed(box.min_lon_deg, 9)},
+          {schema::meta::kCoverageMaxLat, fixed(box.max_lat_deg, 9)},
+          {schema::meta::kCoverageMaxLon, fixed(box.max_lon_deg, 9)}};
+}
+
+}  // namespace
+
 void GeoPackageWriter::write_rows_and_metadata(const DatabaseContents& contents,
                                                Progress& progress) {
   const RoadGraph& graph = *contents.graph;
@@ -459,6 +487,7 @@ void GeoPackageWriter::write_rows_and_metadata(const DatabaseContents& contents,
   put(schema::meta::kUtmNorthern, zone_.northern ? "1" : "0");
   put(schema::meta::kEpsg, std::to_string(zone_.epsg()));
   put(schema::meta::kSegmentCount, std::to_string(graph.segments.size()));
+  for (const auto& [key, value] : coverage_metadata(zone_, segment_extent_)) put(key, value);
   for (const auto& [key, value] : contents.metadata) put(key, value);
   db.exec("COMMIT");
 }
