@@ -14,20 +14,20 @@
 #include <optional>
 #include <utility>
 
-#include "roadcross/preprocess/context/context.hpp"
 #include "roadcross/preprocess/common/errors.hpp"
-#include "roadcross/preprocess/geometry/geometry_cost.hpp"
-#include "roadcross/preprocess/output/gpkg_writer.hpp"
+#include "roadcross/preprocess/common/progress.hpp"
+#include "roadcross/preprocess/common/sha256.hpp"
+#include "roadcross/preprocess/context/context.hpp"
 #include "roadcross/preprocess/context/osm_tags.hpp"
 #include "roadcross/preprocess/context/overrides.hpp"
-#include "roadcross/preprocess/common/progress.hpp"
-#include "roadcross/preprocess/rank.hpp"
-#include "roadcross/preprocess/osm/road_network.hpp"
+#include "roadcross/preprocess/geometry/geometry_cost.hpp"
 #include "roadcross/preprocess/graph/segments.hpp"
-#include "roadcross/preprocess/common/sha256.hpp"
+#include "roadcross/preprocess/osm/road_network.hpp"
+#include "roadcross/preprocess/output/gpkg_writer.hpp"
+#include "roadcross/preprocess/output/terrain_coverage.hpp"
+#include "roadcross/preprocess/rank.hpp"
 #include "roadcross/preprocess/sight/sight.hpp"
 #include "roadcross/preprocess/terrain/terrain.hpp"
-#include "roadcross/preprocess/output/terrain_coverage.hpp"
 #include "roadcross/schema/schema.hpp"
 
 namespace roadcross::preprocess {
@@ -115,16 +115,23 @@ void naming_the_output(const BuildOptions& options, Write&& write) {
   }
 }
 
+/// Every OSM input: osm_path, then extra_osm_paths.
+std::vector<std::string> osm_inputs(const BuildOptions& options) {
+  std::vector<std::string> paths{options.osm_path};
+  paths.insert(paths.end(), options.extra_osm_paths.begin(), options.extra_osm_paths.end());
+  return paths;
+}
+
 /// SHA-256 of every input file, for the provenance metadata.
 struct InputHashes {
-  std::string osm;
+  std::vector<std::string> osm;        ///< in the order of osm_inputs(options)
   std::vector<std::string> elevation;  ///< in the order of options.elevation.sources
   std::string overrides;               ///< empty without an overrides file
 };
 
 InputHashes hash_inputs(const BuildOptions& options) {
   InputHashes hashes;
-  hashes.osm = sha256_of_file(options.osm_path);
+  for (const std::string& path : osm_inputs(options)) hashes.osm.push_back(sha256_of_file(path));
   for (const ElevationSource& source : options.elevation.sources) {
     hashes.elevation.push_back(sha256_of_file(source.path));
   }
@@ -158,18 +165,19 @@ BuildSummary run_build(const BuildOptions& options) {
   const bool with_sight = options.parameters.sight.enabled != 0.0;
   ObstacleReader obstacle_reader(options.parameters.sight);
   RoadNetwork network =
-      read_road_network(options.osm_path, progress, with_sight ? &obstacle_reader : nullptr);
+      read_road_network(osm_inputs(options), progress, with_sight ? &obstacle_reader : nullptr);
   // Hashing the inputs (~1 s per 300 MB) runs on the second core while the single-threaded
   // stages run on the first. (A std::async future waits for the hash if a stage throws.)
   std::future<InputHashes> input_hashes =
       std::async(std::launch::async, hash_inputs, std::cref(options));
 
+  const std::string network_source = network.source_path;
   progress.start_stage("segmenting");
   const geo::UtmZone zone = choose_utm_zone(network);
   RoadGraph graph =
       build_road_graph(network, zone, options.parameters.segments.max_segment_length_m);
   if (graph.segments.empty()) {
-    throw InputError(options.osm_path, "no road way has two nodes with locations in the file");
+    throw InputError(network_source, "no road way has two nodes with locations in the file");
   }
   progress.finish_stage(std::to_string(graph.segments.size()) + " segments in UTM zone " +
                         std::to_string(zone.zone) + (zone.northern ? "N" : "S"));
@@ -260,14 +268,19 @@ BuildSummary run_build(const BuildOptions& options) {
                                  "Map data (c) OpenStreetMap contributors, ODbL 1.0");
   // Inputs are recorded by file name and hash, not by absolute path, so that the same inputs
   // give the same bytes wherever they are built.
-  const std::string input = std::string(schema::meta::kInputPrefix) + "0.";
-  contents.metadata.emplace_back(input + "kind", "osm");
-  contents.metadata.emplace_back(input + "file", base_name(options.osm_path));
+  // The OSM inputs are input.0 .. input.<k-1> in the order given, the elevation inputs next.
+  const std::vector<std::string> osm_paths = osm_inputs(options);
   const InputHashes hashes = input_hashes.get();
-  contents.metadata.emplace_back(input + "sha256", hashes.osm);
+  for (std::size_t i = 0; i < osm_paths.size(); ++i) {
+    const std::string input = std::string(schema::meta::kInputPrefix) + std::to_string(i) + ".";
+    contents.metadata.emplace_back(input + "kind", "osm");
+    contents.metadata.emplace_back(input + "file", base_name(osm_paths[i]));
+    contents.metadata.emplace_back(input + "sha256", hashes.osm[i]);
+  }
   for (std::size_t i = 0; i < options.elevation.sources.size(); ++i) {
     const ElevationSource& source = options.elevation.sources[i];
-    const std::string key = std::string(schema::meta::kInputPrefix) + std::to_string(i + 1) + ".";
+    const std::string key =
+        std::string(schema::meta::kInputPrefix) + std::to_string(i + osm_paths.size()) + ".";
     const bool xyz = source.kind == ElevationKind::xyz;
     contents.metadata.emplace_back(key + "kind", xyz ? "elevation-xyz" : "elevation-raster");
     contents.metadata.emplace_back(key + "file", base_name(source.path));
