@@ -1,17 +1,19 @@
-// roadcross_node: the roadcross runtime as a ROS1 node. It opens one roadcross GeoPackage
-// (parameter ~db), follows the robot's GPS fix (and optionally an odometry or pose topic for the
-// yaw), publishes the assessment of every fix and offers one service per behaviour-tree node of
-// the crossing method: assess, better place, road heading, gap decision, monitor.
+// roadcross_node: the roadcross runtime as a ROS1 node. It opens a roadcross GeoPackage, or a
+// set of them (parameter ~db: a path, or a list of maps and directories), follows the robot's GPS
+// fix (and optionally an odometry or pose topic for the yaw), publishes the assessment of every fix
+// and offers one service per behaviour-tree node of the crossing method: assess, better place, road
+// heading, gap decision, monitor.
 //
 // Frames: the runtime works in the DB's UTM grid; every yaw this node publishes or accepts is a
 // true ENU yaw (REP-103: 0 = east, counter-clockwise, radians), i.e. grid yaw + the meridian
-// convergence at the place. UTM eastings/northings are in the DB's zone.
+// convergence at the place. UTM eastings/northings are in the zone of the map in use: with a set
+// of maps, the map that answers the latest GPS fix or WGS84 request (MapSet::choose).
 //
 // Language: C++17, because ROS1's message headers do not compile as C++20 (they use
 // std::allocator<void>::rebind); the runtime's public headers are C++17-clean for this.
 //
-// Threading: one roadcross::Map is not thread-safe, so the node spins a single thread: callbacks
-// and services run one after another.
+// Threading: one roadcross::Map (or MapSet) is not thread-safe, so the node spins a single thread:
+// callbacks and services run one after another.
 #include <ros/ros.h>
 
 #include <geometry_msgs/PoseStamped.h>
@@ -24,6 +26,7 @@
 #include <vector>
 
 #include "roadcross/gap.hpp"
+#include "roadcross/map_set.hpp"
 #include "roadcross/monitor.hpp"
 #include "roadcross/runtime.hpp"
 #include "roadcross_ros/Assess.h"
@@ -66,7 +69,7 @@ const auto non_negative = [](double v) { return std::isfinite(v) && v >= 0.0; };
 const auto any_finite = [](double v) { return std::isfinite(v); };
 
 struct Settings {
-  std::string db_path;
+  std::vector<std::string> db_paths;  ///< map files and directories of maps
   std::string fix_topic, odom_topic, pose_topic, vehicles_topic, utm_frame_id;
   bool pose_is_utm = false;
   double yaw_offset_rad = 0.0;
@@ -85,10 +88,17 @@ struct Settings {
 
 /// Reads every parameter (units and ranges: config/roadcross.yaml). False after a ROS_FATAL.
 bool read_settings(const ros::NodeHandle& nh, Settings& s) {
-  if (!nh.getParam("db", s.db_path) || s.db_path.empty()) {
+  // ~db: one path (a map or a directory of maps), or a list of them (a set of maps).
+  std::string one_path;
+  if (nh.getParam("db", s.db_paths)) {
+  } else if (nh.getParam("db", one_path) && !one_path.empty()) {
+    s.db_paths = {one_path};
+  }
+  if (s.db_paths.empty()) {
     ROS_FATAL(
         "parameter ~db is not set: give the roadcross GeoPackage built by roadcross-build "
-        "(roslaunch roadcross_ros roadcross.launch db:=/path/map.gpkg)");
+        "(roslaunch roadcross_ros roadcross.launch db:=/path/map.gpkg), a directory of maps, "
+        "or a list of them");
     return false;
   }
   nh.param<std::string>("fix_topic", s.fix_topic, "fix");
@@ -171,8 +181,9 @@ bool read_settings(const ros::NodeHandle& nh, Settings& s) {
 
 class RoadcrossNode {
  public:
-  RoadcrossNode(ros::NodeHandle& nh, ros::NodeHandle& pnh, Settings settings, roadcross::Map map)
-      : settings_(std::move(settings)), map_(std::move(map)) {
+  RoadcrossNode(ros::NodeHandle& nh, ros::NodeHandle& pnh, Settings settings,
+                roadcross::MapSet maps)
+      : settings_(std::move(settings)), maps_(std::move(maps)) {
     assessment_pub_ = pnh.advertise<roadcross_ros::Assessment>("assessment", 10);
     fix_sub_ = nh.subscribe(settings_.fix_topic, 10, &RoadcrossNode::on_fix, this);
     if (!settings_.odom_topic.empty()) {
@@ -211,10 +222,10 @@ class RoadcrossNode {
       return;
     }
     fix_ = Fix{fix.latitude, fix.longitude, fix.header.stamp, ros::Time::now()};
+    const roadcross::Position here = roadcross::Position::wgs84(fix.latitude, fix.longitude);
+    use_map_for(here);
     roadcross_ros::Assessment out;
-    if (const auto a =
-            map_.assess(roadcross::Position::wgs84(fix.latitude, fix.longitude), settings_.assess);
-        a.ok()) {
+    if (const auto a = map().assess(here, settings_.assess); a.ok()) {
       fill(out, *a);
     } else {
       out.error = a.status.message;
@@ -238,9 +249,33 @@ class RoadcrossNode {
 
   // --- helpers ---
 
+  /// The map in use: the one that answered the latest fix or WGS84 request.
+  roadcross::Map& map() { return maps_.map(current_map_); }
+  const roadcross::Map& map() const { return maps_.map(current_map_); }
+
+  /// With a set of maps, makes the map that answers `position` (WGS84) the one in use; UTM
+  /// positions stay with the map in use (they are in its zone). Where no map has a road near
+  /// enough, the map in use stays and its own answer says so.
+  void use_map_for(const roadcross::Position& position) {
+    if (maps_.size() == 1 || position.kind != roadcross::Position::Kind::wgs84) return;
+    const auto chosen = maps_.choose(position, settings_.max_distance_m);
+    if (!chosen.ok() || *chosen == current_map_) return;
+    current_map_ = *chosen;
+    const roadcross::MapInfo& info = map().info();
+    ROS_INFO("roadcross: now answering from %s (UTM zone %d%s)", info.path.c_str(), info.zone.zone,
+             info.zone.northern ? "N" : "S");
+  }
+
   /// The runtime position of a request, or the reason there is none.
   std::optional<roadcross::Position> position_of(const roadcross_ros::Position& p,
-                                                 std::string& error) const {
+                                                 std::string& error) {
+    std::optional<roadcross::Position> position = requested_position(p, error);
+    if (position) use_map_for(*position);
+    return position;
+  }
+
+  std::optional<roadcross::Position> requested_position(const roadcross_ros::Position& p,
+                                                        std::string& error) const {
     switch (p.kind) {
       case roadcross_ros::Position::WGS84:
         return roadcross::Position::wgs84(p.latitude_deg, p.longitude_deg);
@@ -277,7 +312,7 @@ class RoadcrossNode {
   /// be projected (then grid and true differ by well under a degree anyway inside a map).
   double convergence_at(const roadcross::PlanePoint& p) const {
     try {
-      const auto zone = map_.info().zone;
+      const auto zone = map().info().zone;
       const auto ll = roadcross::geo::utm_to_wgs84(p.easting_m, p.northing_m, zone);
       return roadcross::geo::wgs84_to_utm(ll.lat_deg, ll.lon_deg, zone).convergence_rad;
     } catch (const std::exception& e) {
@@ -330,7 +365,7 @@ class RoadcrossNode {
     roadcross::AssessOptions options = settings_.assess;
     if (req.valid_distance_m > 0.0) options.valid_distance_m = req.valid_distance_m;
     if (req.use_threshold) options.threshold = req.threshold;
-    const auto a = map_.assess(*position, options);
+    const auto a = map().assess(*position, options);
     res.assessment.header.stamp = ros::Time::now();
     res.assessment.header.frame_id = settings_.utm_frame_id;
     if (!a.ok()) {
@@ -349,7 +384,7 @@ class RoadcrossNode {
     roadcross::BetterPlaceOptions options = settings_.better;
     if (req.search_radius_m > 0.0) options.search_radius_m = req.search_radius_m;
     if (req.max_candidates > 0) options.max_candidates = req.max_candidates;
-    const auto places = map_.better_place(*position, options);
+    const auto places = map().better_place(*position, options);
     if (!places.ok()) {
       res.message = places.status.message;
       return true;
@@ -360,7 +395,7 @@ class RoadcrossNode {
       out.northing_m = c.point.northing_m;
       try {
         const auto ll =
-            roadcross::geo::utm_to_wgs84(c.point.easting_m, c.point.northing_m, map_.info().zone);
+            roadcross::geo::utm_to_wgs84(c.point.easting_m, c.point.northing_m, map().info().zone);
         out.latitude_deg = ll.lat_deg;
         out.longitude_deg = ll.lon_deg;
       } catch (const std::exception&) {
@@ -385,7 +420,7 @@ class RoadcrossNode {
                     roadcross_ros::RoadHeading::Response& res) {
     const auto position = position_of(req.position, res.message);
     if (!position) return true;
-    const auto h = map_.road_heading(*position, settings_.max_distance_m);
+    const auto h = map().road_heading(*position, settings_.max_distance_m);
     if (!h.ok()) {
       res.message = h.status.message;
       return true;
@@ -415,7 +450,7 @@ class RoadcrossNode {
     const auto start = position_of(req.start, res.message);
     if (!start) return true;
     const auto plan =
-        roadcross::plan_crossing(map_, *start, settings_.default_width_m, settings_.kerb_margin_m);
+        roadcross::plan_crossing(map(), *start, settings_.default_width_m, settings_.kerb_margin_m);
     if (!plan.ok()) {
       res.message = plan.status.message;
       return true;
@@ -431,7 +466,7 @@ class RoadcrossNode {
       current.kind = roadcross_ros::Position::CURRENT;
       const auto here = position_of(current, res.message);
       if (!here) return true;
-      const auto utm = map_.to_utm(*here);
+      const auto utm = map().to_utm(*here);
       if (!utm.ok()) {
         res.message = utm.status.message;
         return true;
@@ -477,7 +512,7 @@ class RoadcrossNode {
       return true;
     }
     const roadcross_ros::VehicleList& list = req.use_latest_vehicles ? *vehicles_ : req.vehicles;
-    const auto crossing = roadcross::gap_crossing(map_, *position, settings_.gap_defaults);
+    const auto crossing = roadcross::gap_crossing(map(), *position, settings_.gap_defaults);
     if (!crossing.ok()) {
       res.message = crossing.status.message;
       return true;
@@ -537,7 +572,8 @@ class RoadcrossNode {
   }
 
   Settings settings_;
-  roadcross::Map map_;
+  roadcross::MapSet maps_;
+  std::size_t current_map_ = 0;  ///< index in maps_ of the map in use
   ros::Publisher assessment_pub_;
   ros::Subscriber fix_sub_, odom_sub_, pose_sub_, vehicles_sub_;
   std::vector<ros::ServiceServer> services_;
@@ -554,16 +590,20 @@ int main(int argc, char** argv) {
   ros::NodeHandle pnh("~");
   Settings settings;
   if (!read_settings(pnh, settings)) return 2;
-  roadcross::Result<roadcross::Map> map = roadcross::Map::open(settings.db_path);
-  if (!map.ok()) {
-    ROS_FATAL("cannot open ~db '%s': %s", settings.db_path.c_str(), map.status.message.c_str());
+  roadcross::Result<roadcross::MapSet> maps = roadcross::MapSet::open(settings.db_paths);
+  if (!maps.ok()) {
+    std::string given;
+    for (const std::string& path : settings.db_paths) given += (given.empty() ? "" : ", ") + path;
+    ROS_FATAL("cannot open ~db '%s': %s", given.c_str(), maps.status.message.c_str());
     return 1;
   }
-  const roadcross::MapInfo& info = map->info();
-  ROS_INFO("roadcross: %s, %lld segments, UTM zone %d%s", settings.db_path.c_str(),
-           static_cast<long long>(info.segment_count), info.zone.zone,
-           info.zone.northern ? "N" : "S");
-  RoadcrossNode node(nh, pnh, std::move(settings), std::move(*map.value));
+  for (std::size_t i = 0; i < maps->size(); ++i) {
+    const roadcross::MapInfo& info = maps->map(i).info();
+    ROS_INFO("roadcross: %s, %lld segments, UTM zone %d%s", info.path.c_str(),
+             static_cast<long long>(info.segment_count), info.zone.zone,
+             info.zone.northern ? "N" : "S");
+  }
+  RoadcrossNode node(nh, pnh, std::move(settings), std::move(*maps.value));
   ros::spin();
   return 0;
 }
