@@ -29,8 +29,8 @@ E=$WORK/fleet/east.gpkg
   pass "nearest in zone 34 from East" || fail "nearest: $(cat "$WORK/n.json")"
 
 "$ROADCROSS" assess --db "$WORK/fleet" --lat 49.5 --lon 18.0002 --json >"$WORK/a.json"
-[[ $(json_field "$WORK/a.json" map path) == "$W" && $(json_field "$WORK/a.json" road osm_way_id) == 100 ]] &&
-  near "$(json_field "$WORK/a.json" road distance_m)" 21.7349 0.01 &&
+[[ $(json_field "$WORK/a.json" map path) == "$W" && $(json_field "$WORK/a.json" osm_way_id) == 100 ]] &&
+  near "$(json_field "$WORK/a.json" distance_m)" 21.7349 0.01 &&
   pass "assess near the border from a directory: West (zone 33) is nearer" || fail "assess: $(cat "$WORK/a.json")"
 
 "$ROADCROSS" heading --db "$E" --db "$W" --lat 49.5001 --lon 17.995 >"$WORK/h.txt"
@@ -60,7 +60,7 @@ import json, sys
 lines = [json.loads(l) for l in open(sys.argv[1])]
 assert lines[0]["ok"] and lines[0]["result"]["map"]["path"] == sys.argv[3], lines[0]
 assert lines[1]["ok"] and lines[1]["result"]["map"]["path"] == sys.argv[2], lines[1]
-assert abs(lines[1]["result"]["road"]["distance_m"] - 21.7349) < 0.01, lines[1]
+assert abs(lines[1]["result"]["distance_m"] - 21.7349) < 0.01, lines[1]
 assert not lines[2]["ok"] and "zone" in lines[2]["error"], lines[2]
 PY
 ((status == 3)) && pass "batch exit 3 (one request failed)" || fail "batch exit $status"
@@ -70,5 +70,5 @@ echo "not a map" >"$WORK/fleet/README.txt"
 expect_failure "a non-map file in the directory" "$WORK/fleet/README.txt" -- \
   "$ROADCROSS" assess --db "$WORK/fleet" --lat 49.5 --lon 18.0002
 expect_failure "monitor takes one map" "one map file" -- \
-  "$ROADCROSS" monitor --db "$W" --db "$E" --lat 49.5 --lon 18.0 --at 1 2
+  "$ROADCROSS" monitor --db "$W" --db "$E" --lat 49.5 --lon 18.0 --at 1 2 --yaw 0
 finish

@@ -529,7 +529,7 @@ class MapSetOverTwoMaps(unittest.TestCase):
                 cli = cli_json("assess", "--db", prague_db, "--db", straight_db,
                                *lat_lon_args(lat, lon))
                 self.assertEqual(cli["map"], {"path": prague_db, "map_id": None})
-                self.assertEqual(cli["road"]["segment_id"], answer.segment_id)
+                self.assertEqual(cli["segment_id"], answer.segment_id)
         road, source = self.set.nearest(lat=50.0 + 5.0 / 111229.0, lon=14.4)
         self.assertEqual((source.index, source.path), (1, straight_db))
         self.assertAlmostEqual(road.distance_m, 5.0, delta=0.01)
