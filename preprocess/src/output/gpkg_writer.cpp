@@ -420,27 +420,27 @@ void GeoPackageWriter::finish(const DatabaseContents& contents, Progress& progre
 
 namespace {
 
-std::string fixed(double value, int decimals) {
+/// The shortest text that reads back as the same double ("%.17g"): the stored extent is
+/// exactly gpkg_contents', and the same inputs give the same text.
+std::string exact(double value) {
   char text[64];
-  std::snprintf(text, sizeof text, "%.*f", decimals, value);
+  std::snprintf(text, sizeof text, "%.17g", value);
   return text;
 }
 
 /// The coverage keys (schema::meta::kCoverage*) of a map whose segments span `extent`.
 std::vector<std::pair<std::string_view, std::string>> coverage_metadata(
     const geo::UtmZone& zone, const schema::Envelope& extent) {
-  // Millimetres and 1e-9 degrees (0.1 mm): rounding that never matters beside the set's
-  // search margins, and fixed decimals keep the metadata deterministic.
   const geo::LatLonBox box =
       geo::wgs84_box_of_utm_rectangle(zone, extent.min_x, extent.min_y, extent.max_x, extent.max_y);
-  return {{schema::meta::kCoverageMinEasting, fixed(extent.min_x, 3)},
-          {schema::meta::kCoverageMinNorthing, fixed(extent.min_y, 3)},
-          {schema::meta::kCoverageMaxEasting, fixed(extent.max_x, 3)},
-          {schema::meta::kCoverageMaxNorthing, fixed(extent.max_y, 3)},
-          {schema::meta::kCoverageMinLat, fixed(box.min_lat_deg, 9)},
-          {schema::meta::kCoverageMinLon, fixed(box.min_lon_deg, 9)},
-          {schema::meta::kCoverageMaxLat, fixed(box.max_lat_deg, 9)},
-          {schema::meta::kCoverageMaxLon, fixed(box.max_lon_deg, 9)}};
+  return {{schema::meta::kCoverageMinEasting, exact(extent.min_x)},
+          {schema::meta::kCoverageMinNorthing, exact(extent.min_y)},
+          {schema::meta::kCoverageMaxEasting, exact(extent.max_x)},
+          {schema::meta::kCoverageMaxNorthing, exact(extent.max_y)},
+          {schema::meta::kCoverageMinLat, exact(box.min_lat_deg)},
+          {schema::meta::kCoverageMinLon, exact(box.min_lon_deg)},
+          {schema::meta::kCoverageMaxLat, exact(box.max_lat_deg)},
+          {schema::meta::kCoverageMaxLon, exact(box.max_lon_deg)}};
 }
 
 }  // namespace
