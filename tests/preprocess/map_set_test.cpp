@@ -231,14 +231,16 @@ TEST_F(MapSetTest, TheCoverageIsStoredAndComputedForOlderMaps) {
   EXPECT_NEAR(info.max_easting_m, 717200.053, 1e-3);
   EXPECT_NEAR(info.min_northing_m, 5487337.885, 1e-3);
   EXPECT_NEAR(info.max_northing_m, 5487366.397, 1e-3);
-  // The WGS84 box holds the road's ends (lon 17.990..17.9999 at lat 49.5) and strays from the
-  // grid rectangle's corners by less than its 1e-5 deg margin plus the rectangle's own spread:
-  // its northing spans 28.5 m (2.6e-4 deg of latitude).
+  // The WGS84 box holds the road's ends (lon 17.990..17.9999 at lat 49.5). The road follows the
+  // parallel, which the grid shows rising 28.51 m (West's northings) over its length, so the
+  // rectangle's corner (min E, max N) lies 28.51 m north of the road and (max E, min N) 28.51 m
+  // south: a latitude span of 2 x 28.51 m / 1.0002 (grid scale 3 deg off the central meridian)
+  // / 111 198 m per degree (meridian at 49.5 deg) = 5.127e-4 deg, plus the box's 2 x 1e-5.
   EXPECT_TRUE(info.coverage_wgs84.contains(49.5, 17.990));
   EXPECT_TRUE(info.coverage_wgs84.contains(49.5, 17.9999));
   EXPECT_NEAR(info.coverage_wgs84.min_lon_deg, 17.990, 2e-5);
   EXPECT_NEAR(info.coverage_wgs84.max_lon_deg, 17.9999, 2e-5);
-  EXPECT_LT(info.coverage_wgs84.max_lat_deg - info.coverage_wgs84.min_lat_deg, 3e-4);
+  EXPECT_NEAR(info.coverage_wgs84.max_lat_deg - info.coverage_wgs84.min_lat_deg, 5.327e-4, 2e-6);
 
   // A map written before the coverage keys: the same coverage, computed on open from
   // gpkg_contents.
