@@ -102,6 +102,14 @@ class MapInfo:
     def extent_utm_m(self) -> tuple[float, float, float, float]:
         """(min_easting, min_northing, max_easting, max_northing) of all segments, UTM metres"""
     @property
+    def extent_wgs84_deg(self) -> tuple[float, float, float, float]:
+        """(min_lat, min_lon, max_lat, max_lon) of the segments' UTM extent, WGS84 degrees: the
+        box a MapSet picks the map by"""
+    @property
+    def coverage_stored(self) -> bool:
+        """True when the map stores its coverage; False for maps written before it (computed
+        on open)"""
+    @property
     def metadata(self) -> dict[str, str]:
         """every row of the map's metadata table (schema version, build parameters, inputs)"""
     def __repr__(self) -> str: ...
@@ -675,6 +683,116 @@ class Map:
         roadcross.gap_decision.
         Position (keyword-only): lat, lon: WGS84 latitude and longitude, degrees; or easting,
         northing: UTM metres in the map's zone (Map.info.utm_zone)."""
+    def __repr__(self) -> str: ...
+
+class MapSource:
+    """Which map of a MapSet answered."""
+
+    @property
+    def index(self) -> int:
+        """position of the map in the set, from 0"""
+    @property
+    def path(self) -> str:
+        """the map's file, as opened"""
+    @property
+    def map_id(self) -> Optional[str]:
+        """the map's identifier (metadata map_id), None when it has none"""
+    def __repr__(self) -> str: ...
+
+class MapSet:
+    """Several roadcross maps answered as one (a fleet's area in several files or UTM zones).
+
+    MapSet(paths): each path a map file or a directory of maps (every file in it must be a
+    map). Raises like Map(path), naming the file at fault. One MapSet per thread. Usable as a
+    context manager (closes on exit)."""
+
+    def __init__(
+        self, paths: Sequence[Union[str, bytes, os.PathLike[str], os.PathLike[bytes]]]
+    ) -> None:
+        """paths: map files and directories of maps (str or os.PathLike each)"""
+    def __len__(self) -> int: ...
+    @property
+    def maps(self) -> list[MapInfo]:
+        """MapInfo of every map, in the set's order (a directory's maps by name)"""
+    @property
+    def closed(self) -> bool:
+        """True after close() or the end of the with block"""
+    def close(self) -> None:
+        """Close every map now; later queries raise ValueError."""
+    def __enter__(self) -> MapSet: ...
+    def __exit__(
+        self, exc_type: object, exc_value: object, traceback: object, /
+    ) -> Literal[False]: ...
+    def nearest(
+        self,
+        *,
+        lat: Optional[float] = None,
+        lon: Optional[float] = None,
+        easting: Optional[float] = None,
+        northing: Optional[float] = None,
+        utm_zone: Optional[str] = None,
+        max_distance_m: float = 1000.0,
+    ) -> tuple[NearestRoad, MapSource]:
+        """Map.nearest over the set: (NearestRoad, MapSource).
+        Position (keyword-only): lat, lon: WGS84 latitude and longitude, degrees; or easting,
+        northing: UTM metres with utm_zone, the zone as '33N' or '34S' (required: a set's maps
+        may lie in several zones). Returns (answer, MapSource): the answer of the map whose road
+        is nearest among the maps that cover the position, and which map that is.
+        max_distance_m: search radius, metres, > 0; NoRoadError when no map has a road that
+        near."""
+    def assess(
+        self,
+        *,
+        lat: Optional[float] = None,
+        lon: Optional[float] = None,
+        easting: Optional[float] = None,
+        northing: Optional[float] = None,
+        utm_zone: Optional[str] = None,
+        valid_distance_m: Optional[float] = None,
+        threshold: Optional[float] = None,
+        max_distance_m: float = 1000.0,
+    ) -> tuple[Assessment, MapSource]:
+        """Map.assess over the set: (Assessment, MapSource).
+        Position (keyword-only): lat, lon: WGS84 latitude and longitude, degrees; or easting,
+        northing: UTM metres with utm_zone, the zone as '33N' or '34S' (required: a set's maps
+        may lie in several zones). Returns (answer, MapSource): the answer of the map whose road
+        is nearest among the maps that cover the position, and which map that is.
+        Thresholds and max_distance_m as in Map.assess."""
+    def better_place(
+        self,
+        *,
+        lat: Optional[float] = None,
+        lon: Optional[float] = None,
+        easting: Optional[float] = None,
+        northing: Optional[float] = None,
+        utm_zone: Optional[str] = None,
+        search_radius_m: float = 100.0,
+        max_candidates: int = 5,
+        valid_distance_m: Optional[float] = None,
+        threshold: Optional[float] = None,
+    ) -> tuple[BetterPlaces, MapSource]:
+        """Map.better_place over the set: (BetterPlaces, MapSource).
+        Position (keyword-only): lat, lon: WGS84 latitude and longitude, degrees; or easting,
+        northing: UTM metres with utm_zone, the zone as '33N' or '34S' (required: a set's maps
+        may lie in several zones). Returns (answer, MapSource): the answer of the map whose road
+        is nearest among the maps that cover the position, and which map that is.
+        Options as in Map.better_place."""
+    def road_heading(
+        self,
+        *,
+        lat: Optional[float] = None,
+        lon: Optional[float] = None,
+        easting: Optional[float] = None,
+        northing: Optional[float] = None,
+        utm_zone: Optional[str] = None,
+        max_distance_m: float = 1000.0,
+    ) -> tuple[RoadHeading, MapSource]:
+        """Map.road_heading over the set: (RoadHeading, MapSource).
+        Position (keyword-only): lat, lon: WGS84 latitude and longitude, degrees; or easting,
+        northing: UTM metres with utm_zone, the zone as '33N' or '34S' (required: a set's maps
+        may lie in several zones). Returns (answer, MapSource): the answer of the map whose road
+        is nearest among the maps that cover the position, and which map that is.
+        max_distance_m: search radius, metres, > 0."""
     def __repr__(self) -> str: ...
 
 # --- Pure computations (no map access) ---

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "roadcross/gap.hpp"
+#include "roadcross/map_set.hpp"
 #include "roadcross/monitor.hpp"
 #include "roadcross/runtime.hpp"
 #include "roadcross/version.hpp"
@@ -160,6 +161,52 @@ Position position_from(std::optional<double> lat, std::optional<double> lon,
   throw py::type_error(
       "give a position: lat= and lon= (WGS84 degrees) or easting= and northing= (UTM metres in "
       "the map's zone)");
+}
+
+/// position_from with the zone of a UTM position (MapSet: its maps may lie in several zones).
+Position zoned_position_from(std::optional<double> lat, std::optional<double> lon,
+                             std::optional<double> easting, std::optional<double> northing,
+                             const std::optional<std::string>& utm_zone) {
+  Position position = position_from(lat, lon, easting, northing);
+  if (!utm_zone) return position;
+  if (position.kind != Position::Kind::utm) {
+    throw py::type_error("utm_zone= goes with easting= and northing=, not with lat= and lon=");
+  }
+  const std::optional<geo::UtmZone> zone = parse_utm_zone(*utm_zone);
+  if (!zone) {
+    throw py::value_error("utm_zone '" + *utm_zone +
+                          "' is not a UTM zone (1..60 with N or S, "
+                          "e.g. '33N')");
+  }
+  return Position::utm(position.first, position.second, *zone);
+}
+
+/// A MapSet that can be closed, like PyMap.
+class PyMapSet {
+ public:
+  explicit PyMapSet(const std::vector<std::filesystem::path>& paths)
+      : set_(value_or_raise(MapSet::open(strings_of(paths)))) {}
+  MapSet& get() {
+    if (!set_) throw py::value_error("this roadcross.MapSet is closed");
+    return *set_;
+  }
+  void close() { set_.reset(); }
+  bool closed() const { return !set_.has_value(); }
+
+ private:
+  static std::vector<std::string> strings_of(const std::vector<std::filesystem::path>& paths) {
+    std::vector<std::string> out;
+    for (const auto& path : paths) out.push_back(path.string());
+    return out;
+  }
+  std::optional<MapSet> set_;
+};
+
+/// (answer, MapSource) of a set's answer, or the error raised.
+template <typename T>
+std::pair<T, MapSource> answer_and_source(Result<FromMap<T>>&& result) {
+  FromMap<T> answer = value_or_raise(std::move(result));
+  return {std::move(answer.answer), std::move(answer.map)};
 }
 
 // The four position keywords, first after the keyword-only marker of every positional query.
@@ -309,6 +356,17 @@ void bind_values(py::module_& m) {
                                   i.max_northing_m);
           },
           "(min_easting, min_northing, max_easting, max_northing) of all segments, UTM metres")
+      .def_property_readonly(
+          "extent_wgs84_deg",
+          [](const MapInfo& i) {
+            const geo::LatLonBox& b = i.coverage_wgs84;
+            return py::make_tuple(b.min_lat_deg, b.min_lon_deg, b.max_lat_deg, b.max_lon_deg);
+          },
+          "(min_lat, min_lon, max_lat, max_lon) of the segments' UTM extent, WGS84 degrees: "
+          "the box a MapSet picks the map by")
+      .def_readonly("coverage_stored", &MapInfo::coverage_stored,
+                    "True when the map stores its coverage; False for maps written before it "
+                    "(computed on open)")
       .def_property_readonly(
           "metadata",
           [](const MapInfo& i) {
@@ -769,6 +827,116 @@ void bind_map(py::module_& m) {
       });
 }
 
+#define ROADCROSS_SET_POSITION_ARGS ROADCROSS_POSITION_ARGS, py::arg("utm_zone") = py::none()
+#define ROADCROSS_SET_POSITION_DOC                                                          \
+  "Position (keyword-only): lat, lon: WGS84 latitude and longitude, degrees; or easting, "  \
+  "northing: UTM metres with utm_zone, the zone as '33N' or '34S' (required: a set's maps " \
+  "may lie in several zones). Returns (answer, MapSource): the answer of the map whose "    \
+  "road is nearest among the maps that cover the position, and which map that is.\n"
+
+void bind_map_set(py::module_& m) {
+  py::class_<MapSource> source(m, "MapSource", "Which map of a MapSet answered.");
+  source.def_readonly("index", &MapSource::index, "position of the map in the set, from 0")
+      .def_readonly("path", &MapSource::path, "the map's file, as opened")
+      .def_property_readonly(
+          "map_id",
+          [](const MapSource& s) -> std::optional<std::string> {
+            if (s.map_id.empty()) return std::nullopt;
+            return s.map_id;
+          },
+          "the map's identifier (metadata map_id), None when it has none");
+  add_repr(source, "MapSource", {"index", "path", "map_id"});
+
+  py::class_<PyMapSet>(m, "MapSet",
+                       "Several roadcross maps answered as one (a fleet's area in several files "
+                       "or UTM zones).\n\n"
+                       "MapSet(paths): each path a map file or a directory of maps (every file "
+                       "in it must be a map). Raises like Map(path), naming the file at fault. "
+                       "One MapSet per thread. Usable as a context manager (closes on exit).")
+      .def(py::init<const std::vector<std::filesystem::path>&>(), "paths"_a,
+           "paths: map files and directories of maps (str or os.PathLike each)")
+      .def("__len__", [](PyMapSet& self) { return self.get().size(); })
+      .def_property_readonly(
+          "maps",
+          [](PyMapSet& self) {
+            std::vector<MapInfo> out;
+            for (std::size_t i = 0; i < self.get().size(); ++i) {
+              out.push_back(self.get().map(i).info());
+            }
+            return out;
+          },
+          "MapInfo of every map, in the set's order (a directory's maps by name)")
+      .def_property_readonly("closed", &PyMapSet::closed,
+                             "True after close() or the end of the with block")
+      .def("close", &PyMapSet::close, "Close every map now; later queries raise ValueError.")
+      .def("__enter__", [](py::object self) { return self; })
+      .def("__exit__",
+           [](PyMapSet& self, const py::object&, const py::object&, const py::object&) {
+             self.close();
+             return false;
+           })
+      .def(
+          "nearest",
+          [](PyMapSet& self, std::optional<double> lat, std::optional<double> lon,
+             std::optional<double> easting, std::optional<double> northing,
+             std::optional<std::string> utm_zone, double max_distance_m) {
+            return answer_and_source(self.get().nearest(
+                zoned_position_from(lat, lon, easting, northing, utm_zone), max_distance_m));
+          },
+          ROADCROSS_SET_POSITION_ARGS, "max_distance_m"_a = 1000.0,
+          "Map.nearest over the set: (NearestRoad, MapSource).\n" ROADCROSS_SET_POSITION_DOC
+          "max_distance_m: search radius, metres, > 0; NoRoadError when no map has a road that "
+          "near.")
+      .def(
+          "assess",
+          [](PyMapSet& self, std::optional<double> lat, std::optional<double> lon,
+             std::optional<double> easting, std::optional<double> northing,
+             std::optional<std::string> utm_zone, std::optional<double> valid_distance_m,
+             std::optional<double> threshold, double max_distance_m) {
+            return answer_and_source(
+                self.get().assess(zoned_position_from(lat, lon, easting, northing, utm_zone),
+                                  assess_options(valid_distance_m, threshold, max_distance_m)));
+          },
+          ROADCROSS_SET_POSITION_ARGS, "valid_distance_m"_a = py::none(),
+          "threshold"_a = py::none(), "max_distance_m"_a = AssessOptions{}.max_distance_m,
+          "Map.assess over the set: (Assessment, MapSource).\n" ROADCROSS_SET_POSITION_DOC
+          "Thresholds and max_distance_m as in Map.assess.")
+      .def(
+          "better_place",
+          [](PyMapSet& self, std::optional<double> lat, std::optional<double> lon,
+             std::optional<double> easting, std::optional<double> northing,
+             std::optional<std::string> utm_zone, double search_radius_m,
+             std::size_t max_candidates, std::optional<double> valid_distance_m,
+             std::optional<double> threshold) {
+            BetterPlaceOptions options;
+            options.search_radius_m = search_radius_m;
+            options.max_candidates = max_candidates;
+            options.assess = assess_options(valid_distance_m, threshold, 1000.0);
+            return answer_and_source(self.get().better_place(
+                zoned_position_from(lat, lon, easting, northing, utm_zone), options));
+          },
+          ROADCROSS_SET_POSITION_ARGS, "search_radius_m"_a = BetterPlaceOptions{}.search_radius_m,
+          "max_candidates"_a = BetterPlaceOptions{}.max_candidates,
+          "valid_distance_m"_a = py::none(), "threshold"_a = py::none(),
+          "Map.better_place over the set: (BetterPlaces, MapSource).\n" ROADCROSS_SET_POSITION_DOC
+          "Options as in Map.better_place.")
+      .def(
+          "road_heading",
+          [](PyMapSet& self, std::optional<double> lat, std::optional<double> lon,
+             std::optional<double> easting, std::optional<double> northing,
+             std::optional<std::string> utm_zone, double max_distance_m) {
+            return answer_and_source(self.get().road_heading(
+                zoned_position_from(lat, lon, easting, northing, utm_zone), max_distance_m));
+          },
+          ROADCROSS_SET_POSITION_ARGS, "max_distance_m"_a = 1000.0,
+          "Map.road_heading over the set: (RoadHeading, MapSource).\n" ROADCROSS_SET_POSITION_DOC
+          "max_distance_m: search radius, metres, > 0.")
+      .def("__repr__", [](PyMapSet& self) {
+        if (self.closed()) return std::string("roadcross.MapSet(<closed>)");
+        return "roadcross.MapSet(<" + std::to_string(self.get().size()) + " maps>)";
+      });
+}
+
 GapOptions gap_options(double min_pet_s, double safety_buffer_m, double speed_uncertainty_fraction,
                        double stopped_speed_mps, double max_track_age_s, double sensor_range_m,
                        double unseen_speed_factor, double turning_speed_kmh) {
@@ -891,5 +1059,6 @@ PYBIND11_MODULE(roadcross, m) {
   roadcross::python::add_error_classes(m);
   roadcross::python::bind_values(m);
   roadcross::python::bind_map(m);
+  roadcross::python::bind_map_set(m);
   roadcross::python::bind_functions(m);
 }

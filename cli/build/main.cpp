@@ -93,7 +93,11 @@ int main(int argc, char** argv) {
   const bool printing_config = std::any_of(argv + 1, argv + argc, [](const char* arg) {
     return std::string_view(arg) == "--print-config";
   });
-  app.add_option("--osm", options.osm_path, "OSM input: .osm, .osm.gz, .osm.bz2 or .osm.pbf")
+  std::vector<std::string> osm_paths;
+  app.add_option("--osm", osm_paths,
+                 "OSM input: .osm, .osm.gz, .osm.bz2 or .osm.pbf; repeatable: several extracts "
+                 "make one map, merged by object id as `osmium merge` does (each file sorted "
+                 "by type and id, as extracts are)")
       ->required(!printing_config);
   app.add_option("-o,--output", options.output_path,
                  "output GeoPackage (.gpkg); replaced atomically")
@@ -151,6 +155,10 @@ int main(int argc, char** argv) {
     return 2;
   }
 
+  if (!osm_paths.empty()) {
+    options.osm_path = osm_paths.front();
+    options.extra_osm_paths.assign(osm_paths.begin() + 1, osm_paths.end());
+  }
   for (const std::string& path : elevation_paths) {
     options.elevation.sources.push_back({path, rp::elevation_kind_of(path)});
   }

@@ -20,6 +20,9 @@ std::string int_or_dash(const std::optional<int>& value) {
   return value ? std::to_string(*value) : std::string("-");
 }
 
+/// The answer as text or JSON; `source` names the map of a set that gave it (null for one map).
+int print_assessment(const Assessment& a, const MapSource* source, bool json);
+
 }  // namespace
 
 AssessCommand::AssessCommand(CLI::App& parent) {
@@ -36,18 +39,28 @@ AssessCommand::AssessCommand(CLI::App& parent) {
 }
 
 int AssessCommand::run() {
-  std::optional<Map> map = open_map_or_report(query_.db_path);
+  if (query_.uses_set()) {
+    std::optional<MapSet> set = open_set_or_report(query_.db_paths);
+    if (!set) return 1;
+    const auto result = set->assess(query_.position(), options_);
+    if (!result.ok()) return report_error(result.status);
+    return print_assessment(result->answer, &result->map, query_.json);
+  }
+  std::optional<Map> map = open_map_or_report(query_.db_path());
   if (!map) return 1;
   const Result<Assessment> result = map->assess(query_.position(), options_);
-  if (!result.ok()) {
-    std::cerr << "roadcross: " << result.status.message << "\n";
-    return 1;
-  }
-  const Assessment& a = *result;
-  if (query_.json) {
-    std::cout << json_text(assessment_json(a), 2) << "\n";
+  if (!result.ok()) return report_error(result.status);
+  return print_assessment(*result, nullptr, query_.json);
+}
+
+namespace {
+
+int print_assessment(const Assessment& a, const MapSource* source, bool json) {
+  if (json) {
+    std::cout << json_text(with_map_source(assessment_json(a), source), 2) << "\n";
     return 0;
   }
+  if (source) print_map_source(*source);
   const std::string name = a.road.name.empty() ? "(unnamed)" : a.road.name;
   std::printf("%s\n", a.suitable ? "SUITABLE place to cross"
                                  : (a.valid ? "NOT suitable here" : "NOT at a road"));
@@ -86,5 +99,7 @@ int AssessCommand::run() {
   if (!a.override_note.empty()) std::printf("  operator note: %s\n", a.override_note.c_str());
   return 0;
 }
+
+}  // namespace
 
 }  // namespace roadcross::cli

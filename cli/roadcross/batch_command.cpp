@@ -1,9 +1,10 @@
 // Batch mode: for scripts and for checking a list of sites before a mission. Each input line is
 // a JSON object {"op": "assess" | "better" | "heading" | "nearest", "lat": .., "lon": ..} or
-// with "easting"/"northing"; optional "threshold", "valid_distance_m", "max_kerb_height_m",
-// "radius_m". Each output line is {"line": N, "ok": true, "result": {...}} or
-// {"line": N, "ok": false, "error": "..."};
-// a bad line never stops the batch.
+// with "easting"/"northing" (and "utm_zone": "33N", required with a set of maps); optional
+// "threshold", "valid_distance_m", "max_kerb_height_m", "radius_m". Each output line is
+// {"line": N, "ok": true, "result": {...}} or {"line": N, "ok": false, "error": "..."}; a bad
+// line never stops the batch. With a set of maps (--db repeated, or a directory) each result has
+// a "map" member naming the map that answered.
 #include <iostream>
 #include <string>
 
@@ -18,7 +19,15 @@ Position position_of(const nlohmann::json& request) {
   if (request.contains("lat") || request.contains("lon")) {
     return Position::wgs84(request.at("lat").get<double>(), request.at("lon").get<double>());
   }
-  return Position::utm(request.at("easting").get<double>(), request.at("northing").get<double>());
+  const double easting_m = request.at("easting").get<double>();
+  const double northing_m = request.at("northing").get<double>();
+  if (request.contains("utm_zone")) {
+    const std::string text = request.at("utm_zone").get<std::string>();
+    const auto zone = parse_utm_zone(text);
+    if (!zone) throw std::invalid_argument("utm_zone '" + text + "' is not a zone (e.g. 33N)");
+    return Position::utm(easting_m, northing_m, *zone);
+  }
+  return Position::utm(easting_m, northing_m);
 }
 
 template <typename T, typename ToJson>
@@ -33,7 +42,22 @@ nlohmann::ordered_json answer(const Result<T>& result, ToJson&& to_json) {
   return out;
 }
 
-nlohmann::ordered_json handle(Map& map, const nlohmann::json& request) {
+/// A set's answer: the map's answer with the map that gave it.
+template <typename T, typename ToJson>
+nlohmann::ordered_json answer(const Result<FromMap<T>>& result, ToJson&& to_json) {
+  nlohmann::ordered_json out;
+  out["ok"] = result.ok();
+  if (result.ok()) {
+    out["result"] = with_map_source(to_json(result->answer), &result->map);
+  } else {
+    out["error"] = result.status.message;
+  }
+  return out;
+}
+
+/// Answers one request from a Map or a MapSet (same calls, the set's answers name their map).
+template <typename Maps>
+nlohmann::ordered_json handle(Maps& map, const nlohmann::json& request) {
   const std::string op = request.value("op", "assess");
   const Position position = position_of(request);
   AssessOptions assess;
@@ -54,12 +78,13 @@ nlohmann::ordered_json handle(Map& map, const nlohmann::json& request) {
   throw std::invalid_argument("unknown op '" + op + "' (assess, better, heading, nearest)");
 }
 
-}  // namespace
-
-std::string batch_answer(Map& map, const std::string& line, long number, bool& failed) {
+/// The answer line to request line `number` (text `line`) from a Map or a MapSet; `failed` tells
+/// whether the request failed.
+template <typename Maps>
+std::string answer_line(Maps& maps, const std::string& line, long number, bool& failed) {
   nlohmann::ordered_json out;
   try {
-    out = handle(map, nlohmann::json::parse(line));
+    out = handle(maps, nlohmann::json::parse(line));
   } catch (const std::exception& e) {
     out["ok"] = false;
     out["error"] = std::string("line ") + std::to_string(number) + ": " + e.what();
@@ -72,15 +97,43 @@ std::string batch_answer(Map& map, const std::string& line, long number, bool& f
   return json_text(numbered);
 }
 
+/// Reads the requests of stdin and prints one answer line each; the exit code.
+template <typename Maps>
+int answer_lines(Maps& maps);
+
+}  // namespace
+
+std::string batch_answer(Map& map, const std::string& line, long number, bool& failed) {
+  return answer_line(map, line, number, failed);
+}
+
 BatchCommand::BatchCommand(CLI::App& parent) {
   app_ = parent.add_subcommand("batch",
                                "answer one JSON request per line of stdin, one JSON line each");
-  app_->add_option("--db", db_path_, "roadcross GeoPackage")->required();
+  app_->add_option("--db", db_paths_,
+                   "roadcross GeoPackage; repeatable, or a directory of maps: a set of maps")
+      ->required()
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
 }
 
 int BatchCommand::run() {
-  std::optional<Map> map = open_map_or_report(db_path_);
+  QueryOptions paths;
+  paths.db_paths = db_paths_;
+  if (paths.uses_set()) {
+    std::optional<MapSet> set = open_set_or_report(db_paths_);
+    if (!set) return 1;
+    return answer_lines(*set);
+  }
+  std::optional<Map> map = open_map_or_report(db_paths_.front());
   if (!map) return 1;
+  return answer_lines(*map);
+}
+
+namespace {
+
+template <typename Maps>
+int answer_lines(Maps& maps) {
   std::string line;
   long number = 0;
   int failures = 0;
@@ -88,10 +141,12 @@ int BatchCommand::run() {
     ++number;
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
     bool failed = false;
-    std::cout << batch_answer(*map, line, number, failed) << "\n";
+    std::cout << answer_line(maps, line, number, failed) << "\n";
     if (failed) ++failures;
   }
   return failures == 0 ? 0 : 3;  // 3: the batch ran, but some requests failed (see their lines)
 }
+
+}  // namespace
 
 }  // namespace roadcross::cli

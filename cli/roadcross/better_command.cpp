@@ -24,32 +24,45 @@ BetterCommand::BetterCommand(CLI::App& parent) {
       ->check(CLI::Range(0.0, 100.0));
 }
 
-int BetterCommand::run() {
-  std::optional<Map> map = open_map_or_report(query_.db_path);
-  if (!map) return 1;
-  const Result<BetterPlaces> result = map->better_place(query_.position(), options_);
-  if (!result.ok()) {
-    std::cerr << "roadcross: " << result.status.message << "\n";
-    return 1;
-  }
-  if (query_.json) {
-    const nlohmann::ordered_json out = better_places_json(*result);
-    std::cout << json_text(out, 2) << "\n";
+namespace {
+
+/// The answer as text or JSON; `source` names the map of a set that gave it (null for one map).
+int print_better_places(const BetterPlaces& places, const MapSource* source, bool json) {
+  if (json) {
+    std::cout << json_text(with_map_source(better_places_json(places), source), 2) << "\n";
     return 0;
   }
-  if (result->candidates.empty()) {
-    std::printf("%s\n", result->reason.c_str());
+  if (source) print_map_source(*source);
+  if (places.candidates.empty()) {
+    std::printf("%s\n", places.reason.c_str());
     return 0;
   }
   std::printf("%-4s %9s %8s %-9s %-19s %s\n", "#", "walk (m)", "score", "crossing",
               "go to (UTM E, N)", "cross yaw (rad)");
   int rank = 1;
-  for (const Candidate& c : result->candidates) {
+  for (const Candidate& c : places.candidates) {
     std::printf("%-4d %9.1f %8d %-9s %9.1f %9.1f %+8.3f\n", rank++, c.walking_distance_m, c.score,
                 c.designated_crossing ? "zebra" : "-", c.point.easting_m, c.point.northing_m,
                 c.crossing_heading_rad);
   }
   return 0;
+}
+
+}  // namespace
+
+int BetterCommand::run() {
+  if (query_.uses_set()) {
+    std::optional<MapSet> set = open_set_or_report(query_.db_paths);
+    if (!set) return 1;
+    const auto result = set->better_place(query_.position(), options_);
+    if (!result.ok()) return report_error(result.status);
+    return print_better_places(result->answer, &result->map, query_.json);
+  }
+  std::optional<Map> map = open_map_or_report(query_.db_path());
+  if (!map) return 1;
+  const Result<BetterPlaces> result = map->better_place(query_.position(), options_);
+  if (!result.ok()) return report_error(result.status);
+  return print_better_places(*result, nullptr, query_.json);
 }
 
 }  // namespace roadcross::cli

@@ -120,7 +120,7 @@ class BatchCommand : public Command {
   int run() override;
 
  private:
-  std::string db_path_;
+  std::vector<std::string> db_paths_;
 };
 
 /// roadcross gap: GO or WAIT for tracked vehicles read from stdin (one JSON object per line).

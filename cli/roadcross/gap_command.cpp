@@ -155,7 +155,12 @@ GapCommand::GapCommand(CLI::App& parent) {
 }
 
 int GapCommand::run() {
-  std::optional<Map> map = open_map_or_report(query_.db_path);
+  if (query_.uses_set()) {
+    std::cerr << "roadcross gap: takes one map file (--db once); sets of maps are for "
+                 "nearest, heading, assess, better and batch\n";
+    return 2;
+  }
+  std::optional<Map> map = open_map_or_report(query_.db_path());
   if (!map) return 1;
   const Result<GapCrossing> crossing = gap_crossing(*map, query_.position());
   if (!crossing.ok()) {

@@ -85,4 +85,17 @@ nlohmann::ordered_json better_places_json(const BetterPlaces& places) {
   return out;
 }
 
+nlohmann::ordered_json map_source_json(const MapSource& source) {
+  nlohmann::ordered_json out;
+  out["path"] = source.path;
+  out["map_id"] = source.map_id.empty() ? nlohmann::ordered_json(nullptr)
+                                        : nlohmann::ordered_json(source.map_id);
+  return out;
+}
+
+nlohmann::ordered_json with_map_source(nlohmann::ordered_json answer, const MapSource* source) {
+  if (source) answer["map"] = map_source_json(*source);
+  return answer;
+}
+
 }  // namespace roadcross::cli

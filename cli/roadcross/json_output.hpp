@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "roadcross/map_set.hpp"
 #include "roadcross/runtime.hpp"
 
 namespace roadcross::cli {
@@ -29,5 +30,9 @@ nlohmann::ordered_json road_json(const NearestRoad& road);
 nlohmann::ordered_json heading_json(const RoadHeading& heading);
 nlohmann::ordered_json assessment_json(const Assessment& assessment);
 nlohmann::ordered_json better_places_json(const BetterPlaces& places);
+/// {"path": ..., "map_id": ... or null}: which map of a set answered.
+nlohmann::ordered_json map_source_json(const MapSource& source);
+/// `answer` with a "map" member naming the map of a set that gave it (when `source` is set).
+nlohmann::ordered_json with_map_source(nlohmann::ordered_json answer, const MapSource* source);
 
 }  // namespace roadcross::cli

@@ -20,7 +20,12 @@ MonitorCommand::MonitorCommand(CLI::App& parent) {
 }
 
 int MonitorCommand::run() {
-  std::optional<Map> map = open_map_or_report(query_.db_path);
+  if (query_.uses_set()) {
+    std::cerr << "roadcross monitor: takes one map file (--db once); sets of maps are for "
+                 "nearest, heading, assess, better and batch\n";
+    return 2;
+  }
+  std::optional<Map> map = open_map_or_report(query_.db_path());
   if (!map) return 1;
   const Result<CrossingPlan> plan = plan_crossing(*map, query_.position());
   if (!plan.ok()) {

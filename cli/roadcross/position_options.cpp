@@ -1,11 +1,20 @@
 #include "position_options.hpp"
 
+#include <cctype>
+#include <cstdio>
+#include <filesystem>
 #include <iostream>
 
 namespace roadcross::cli {
 
 void QueryOptions::add_to(CLI::App& command) {
-  command.add_option("--db", db_path, "roadcross GeoPackage built by roadcross-build")->required();
+  command
+      .add_option("--db", db_paths,
+                  "roadcross GeoPackage built by roadcross-build; repeatable, or a directory of "
+                  "maps: a set of maps, each position answered by the map that covers it")
+      ->required()
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   auto* lat = command.add_option("--lat", lat_deg, "WGS84 latitude, degrees");
   auto* lon = command.add_option("--lon", lon_deg, "WGS84 longitude, degrees");
   auto* utm_option =
@@ -15,18 +24,56 @@ void QueryOptions::add_to(CLI::App& command) {
   lat->needs(lon);
   lon->needs(lat);
   utm_option->excludes(lat)->excludes(lon);
+  command
+      .add_option("--utm-zone", utm_zone,
+                  "the zone of --utm, e.g. 33N or 34S (default: the DB's zone; required with a "
+                  "set of maps, which may span zones)")
+      ->needs(utm_option);
   command.callback([this, &command] {
     if (utm.empty() && !lat_deg) {
       throw CLI::ValidationError(command.get_name(),
                                  "give a position with --lat/--lon or --utm E N");
+    }
+    if (!utm_zone.empty() && !parse_utm_zone(utm_zone)) {
+      throw CLI::ValidationError("--utm-zone", "'" + utm_zone +
+                                                   "' is not a UTM zone (1..60 with N or S, "
+                                                   "e.g. 33N)");
+    }
+    if (!utm.empty() && utm_zone.empty() && uses_set()) {
+      throw CLI::ValidationError("--utm",
+                                 "a set of maps may span UTM zones: give --utm-zone "
+                                 "with --utm, or the position as --lat/--lon");
     }
   });
   command.add_flag("--json", json, "print JSON instead of text");
 }
 
 Position QueryOptions::position() const {
-  if (!utm.empty()) return Position::utm(utm[0], utm[1]);
+  if (!utm.empty()) {
+    if (const auto zone = parse_utm_zone(utm_zone)) return Position::utm(utm[0], utm[1], *zone);
+    return Position::utm(utm[0], utm[1]);
+  }
   return Position::wgs84(*lat_deg, *lon_deg);
+}
+
+bool QueryOptions::uses_set() const {
+  std::error_code error;
+  return db_paths.size() > 1 ||
+         (db_paths.size() == 1 && std::filesystem::is_directory(db_paths.front(), error));
+}
+
+std::optional<MapSet> open_set_or_report(const std::vector<std::string>& paths) {
+  Result<MapSet> set = MapSet::open(paths);
+  if (!set.ok()) {
+    std::cerr << "roadcross: " << set.status.message << "\n";
+    return std::nullopt;
+  }
+  return std::move(*set.value);
+}
+
+void print_map_source(const MapSource& source) {
+  std::printf("map       %s%s\n", source.path.c_str(),
+              source.map_id.empty() ? "" : (" (id " + source.map_id + ")").c_str());
 }
 
 std::optional<Map> open_map_or_report(const std::string& path) {

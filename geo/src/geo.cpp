@@ -1,9 +1,12 @@
 #include "roadcross/geo.hpp"
+#include "roadcross/geo_box.hpp"
 
 #include <GeographicLib/UTMUPS.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -109,6 +112,35 @@ LatLon utm_to_wgs84(double easting_m, double northing_m, UtmZone zone) {
   GeographicLib::UTMUPS::Reverse(zone.zone, zone.northern, easting_m, northing_m, out.lat_deg,
                                  out.lon_deg);
   return out;
+}
+
+LatLonBox wgs84_box_of_utm_rectangle(UtmZone zone, double min_easting_m, double min_northing_m,
+                                     double max_easting_m, double max_northing_m) {
+  constexpr int kPointsPerSide = 128;
+  constexpr double kMarginDeg = 1e-5;
+  LatLonBox box{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+                -std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  const auto take = [&](double easting_m, double northing_m) {
+    const LatLon p = utm_to_wgs84(easting_m, northing_m, zone);
+    box.min_lat_deg = std::min(box.min_lat_deg, p.lat_deg);
+    box.max_lat_deg = std::max(box.max_lat_deg, p.lat_deg);
+    box.min_lon_deg = std::min(box.min_lon_deg, p.lon_deg);
+    box.max_lon_deg = std::max(box.max_lon_deg, p.lon_deg);
+  };
+  for (int i = 0; i <= kPointsPerSide; ++i) {
+    const double t = static_cast<double>(i) / kPointsPerSide;
+    const double e = min_easting_m + t * (max_easting_m - min_easting_m);
+    const double n = min_northing_m + t * (max_northing_m - min_northing_m);
+    take(e, min_northing_m);
+    take(e, max_northing_m);
+    take(min_easting_m, n);
+    take(max_easting_m, n);
+  }
+  box.min_lat_deg -= kMarginDeg;
+  box.min_lon_deg -= kMarginDeg;
+  box.max_lat_deg += kMarginDeg;
+  box.max_lon_deg += kMarginDeg;
+  return box;
 }
 
 }  // namespace roadcross::geo

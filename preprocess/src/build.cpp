@@ -123,16 +123,23 @@ void naming_the_output(const BuildOptions& options, Write&& write) {
   }
 }
 
+/// Every OSM input: osm_path, then extra_osm_paths.
+std::vector<std::string> osm_inputs(const BuildOptions& options) {
+  std::vector<std::string> paths{options.osm_path};
+  paths.insert(paths.end(), options.extra_osm_paths.begin(), options.extra_osm_paths.end());
+  return paths;
+}
+
 /// SHA-256 of every input file, for the provenance metadata.
 struct InputHashes {
-  std::string osm;
+  std::vector<std::string> osm;        ///< in the order of osm_inputs(options)
   std::vector<std::string> elevation;  ///< in the order of options.elevation.sources
   std::string overrides;               ///< empty without an overrides file
 };
 
 InputHashes hash_inputs(const BuildOptions& options) {
   InputHashes hashes;
-  hashes.osm = sha256_of_file(options.osm_path);
+  for (const std::string& path : osm_inputs(options)) hashes.osm.push_back(sha256_of_file(path));
   for (const ElevationSource& source : options.elevation.sources) {
     hashes.elevation.push_back(sha256_of_file(source.path));
   }
@@ -181,7 +188,7 @@ void segment_stage(const BuildOptions& options, Pipeline& p, Progress& progress)
   const geo::UtmZone zone = choose_utm_zone(p.network);
   p.graph = build_road_graph(p.network, zone, options.parameters.segments.max_segment_length_m);
   if (p.graph.segments.empty()) {
-    throw InputError(options.osm_path, "no road way has two nodes with locations in the file");
+    throw InputError(p.network.source_path, "no road way has two nodes with locations in the file");
   }
   p.roads = road_bounds(p.graph);
   progress.finish_stage(std::to_string(p.graph.segments.size()) + " segments in UTM zone " +
@@ -257,13 +264,18 @@ std::vector<std::pair<std::string, std::string>> metadata_rows(const BuildOption
   rows.emplace_back(schema::meta::kAttribution,
                     "Map data (c) OpenStreetMap contributors, ODbL 1.0");
   if (p.osm_timestamp) rows.emplace_back(schema::meta::kOsmTimestamp, *p.osm_timestamp);
-  const std::string input = std::string(schema::meta::kInputPrefix) + "0.";
-  rows.emplace_back(input + "kind", "osm");
-  rows.emplace_back(input + "file", base_name(options.osm_path));
-  rows.emplace_back(input + "sha256", hashes.osm);
+  // The OSM inputs are input.0 .. input.<k-1> in the order given, the elevation inputs next.
+  const std::vector<std::string> osm_paths = osm_inputs(options);
+  for (std::size_t i = 0; i < osm_paths.size(); ++i) {
+    const std::string input = std::string(schema::meta::kInputPrefix) + std::to_string(i) + ".";
+    rows.emplace_back(input + "kind", "osm");
+    rows.emplace_back(input + "file", base_name(osm_paths[i]));
+    rows.emplace_back(input + "sha256", hashes.osm[i]);
+  }
   for (std::size_t i = 0; i < options.elevation.sources.size(); ++i) {
     const ElevationSource& source = options.elevation.sources[i];
-    const std::string key = std::string(schema::meta::kInputPrefix) + std::to_string(i + 1) + ".";
+    const std::string key =
+        std::string(schema::meta::kInputPrefix) + std::to_string(i + osm_paths.size()) + ".";
     const bool xyz = source.kind == ElevationKind::xyz;
     rows.emplace_back(key + "kind", xyz ? "elevation-xyz" : "elevation-raster");
     rows.emplace_back(key + "file", base_name(source.path));
@@ -375,7 +387,7 @@ BuildSummary run_build(const BuildOptions& options) {
   const bool with_sight = options.parameters.sight.enabled != 0.0;
   ObstacleReader obstacle_reader(options.parameters.sight);
   p.network =
-      read_road_network(options.osm_path, progress, with_sight ? &obstacle_reader : nullptr);
+      read_road_network(osm_inputs(options), progress, with_sight ? &obstacle_reader : nullptr);
   // Hashing the inputs runs on the second core while the single-threaded stages run on the
   // first. (A std::async future waits for the hash if a stage throws.)
   std::future<InputHashes> input_hashes =

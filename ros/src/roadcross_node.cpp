@@ -1,18 +1,20 @@
-// roadcross_node: the roadcross runtime as a ROS1 node. It opens one roadcross GeoPackage
-// (parameter ~db), follows the robot's GPS fix (and optionally an odometry or pose topic for the
-// yaw), publishes the assessment of every fix and offers one service per behaviour-tree node of
-// the crossing method: assess, better place, road heading, gap decision, monitor. ~reload swaps
-// the map between two queries; /diagnostics carries the map's identity (map_id) once a second.
+// roadcross_node: the roadcross runtime as a ROS1 node. It opens a roadcross GeoPackage, or a
+// set of them (parameter ~db: a path, or a list of maps and directories), follows the robot's GPS
+// fix (and optionally an odometry or pose topic for the yaw), publishes the assessment of every fix
+// and offers one service per behaviour-tree node of the crossing method: assess, better place, road
+// heading, gap decision, monitor. ~reload swaps the map (or set) between two queries;
+// /diagnostics carries the identity (map_id) of the map in use once a second.
 //
 // Frames: the runtime works in the DB's UTM grid; every yaw this node publishes or accepts is a
 // true ENU yaw (REP-103: 0 = east, counter-clockwise, radians), i.e. grid yaw + the meridian
-// convergence at the place. UTM eastings/northings are in the DB's zone.
+// convergence at the place. UTM eastings/northings are in the zone of the map in use: with a set
+// of maps, the map that answers the latest GPS fix or WGS84 request (MapSet::choose).
 //
 // Language: C++17, because ROS1's message headers do not compile as C++20 (they use
 // std::allocator<void>::rebind); the runtime's public headers are C++17-clean for this.
 //
-// Threading: one roadcross::Map is not thread-safe, so the node spins a single thread: callbacks
-// and services run one after another.
+// Threading: one roadcross::Map (or MapSet) is not thread-safe, so the node spins a single thread:
+// callbacks and services run one after another.
 #include <ros/ros.h>
 
 #include <diagnostic_msgs/DiagnosticArray.h>
@@ -27,6 +29,7 @@
 #include <vector>
 
 #include "roadcross/gap.hpp"
+#include "roadcross/map_set.hpp"
 #include "roadcross/monitor.hpp"
 #include "roadcross/runtime.hpp"
 #include "roadcross_ros/Assess.h"
@@ -75,7 +78,7 @@ const auto non_negative = [](double v) { return std::isfinite(v) && v >= 0.0; };
 const auto any_finite = [](double v) { return std::isfinite(v); };
 
 struct Settings {
-  std::string db_path;
+  std::vector<std::string> db_paths;  ///< map files and directories of maps
   std::string fix_topic, odom_topic, pose_topic, vehicles_topic, utm_frame_id;
   bool pose_is_utm = false;
   double yaw_offset_rad = 0.0;
@@ -94,10 +97,17 @@ struct Settings {
 
 /// Reads every parameter (units and ranges: config/roadcross.yaml). False after a ROS_FATAL.
 bool read_settings(const ros::NodeHandle& nh, Settings& s) {
-  if (!nh.getParam("db", s.db_path) || s.db_path.empty()) {
+  // ~db: one path (a map or a directory of maps), or a list of them (a set of maps).
+  std::string one_path;
+  if (nh.getParam("db", s.db_paths)) {
+  } else if (nh.getParam("db", one_path) && !one_path.empty()) {
+    s.db_paths = {one_path};
+  }
+  if (s.db_paths.empty()) {
     ROS_FATAL(
         "parameter ~db is not set: give the roadcross GeoPackage built by roadcross-build "
-        "(roslaunch roadcross_ros roadcross.launch db:=/path/map.gpkg)");
+        "(roslaunch roadcross_ros roadcross.launch db:=/path/map.gpkg), a directory of maps, "
+        "or a list of them");
     return false;
   }
   nh.param<std::string>("fix_topic", s.fix_topic, "fix");
@@ -187,8 +197,9 @@ bool read_settings(const ros::NodeHandle& nh, Settings& s) {
 
 class RoadcrossNode {
  public:
-  RoadcrossNode(ros::NodeHandle& nh, ros::NodeHandle& pnh, Settings settings, roadcross::Map map)
-      : settings_(std::move(settings)), map_(std::move(map)) {
+  RoadcrossNode(ros::NodeHandle& nh, ros::NodeHandle& pnh, Settings settings,
+                roadcross::MapSet maps)
+      : settings_(std::move(settings)), maps_(std::move(maps)) {
     assessment_pub_ = pnh.advertise<roadcross_ros::Assessment>("assessment", 10);
     fix_sub_ = nh.subscribe(settings_.fix_topic, 10, &RoadcrossNode::on_fix, this);
     if (!settings_.odom_topic.empty()) {
@@ -232,11 +243,11 @@ class RoadcrossNode {
       return;
     }
     fix_ = Fix{fix.latitude, fix.longitude, fix.header.stamp, ros::Time::now()};
+    const roadcross::Position here = roadcross::Position::wgs84(fix.latitude, fix.longitude);
+    use_map_for(here);
     roadcross_ros::Assessment out;
-    out.map_id = map_.info().map_id;
-    if (const auto a =
-            map_.assess(roadcross::Position::wgs84(fix.latitude, fix.longitude), settings_.assess);
-        a.ok()) {
+    out.map_id = map().info().map_id;
+    if (const auto a = map().assess(here, settings_.assess); a.ok()) {
       fill(out, *a);
     } else {
       out.error = a.status.message;
@@ -260,9 +271,33 @@ class RoadcrossNode {
 
   // --- helpers ---
 
+  /// The map in use: the one that answered the latest fix or WGS84 request.
+  roadcross::Map& map() { return maps_.map(current_map_); }
+  const roadcross::Map& map() const { return maps_.map(current_map_); }
+
+  /// With a set of maps, makes the map that answers `position` (WGS84) the one in use; UTM
+  /// positions stay with the map in use (they are in its zone). Where no map has a road near
+  /// enough, the map in use stays and its own answer says so.
+  void use_map_for(const roadcross::Position& position) {
+    if (maps_.size() == 1 || position.kind != roadcross::Position::Kind::wgs84) return;
+    const auto chosen = maps_.choose(position, settings_.max_distance_m);
+    if (!chosen.ok() || *chosen == current_map_) return;
+    current_map_ = *chosen;
+    const roadcross::MapInfo& info = map().info();
+    ROS_INFO("roadcross: now answering from %s (UTM zone %d%s)", info.path.c_str(), info.zone.zone,
+             info.zone.northern ? "N" : "S");
+  }
+
   /// The runtime position of a request, or the reason there is none.
   std::optional<roadcross::Position> position_of(const roadcross_ros::Position& p,
-                                                 std::string& error) const {
+                                                 std::string& error) {
+    std::optional<roadcross::Position> position = requested_position(p, error);
+    if (position) use_map_for(*position);
+    return position;
+  }
+
+  std::optional<roadcross::Position> requested_position(const roadcross_ros::Position& p,
+                                                        std::string& error) const {
     switch (p.kind) {
       case roadcross_ros::Position::WGS84:
         return roadcross::Position::wgs84(p.latitude_deg, p.longitude_deg);
@@ -299,7 +334,7 @@ class RoadcrossNode {
   /// be projected (then grid and true differ by well under a degree anyway inside a map).
   double convergence_at(const roadcross::PlanePoint& p) const {
     try {
-      const auto zone = map_.info().zone;
+      const auto zone = map().info().zone;
       const auto ll = roadcross::geo::utm_to_wgs84(p.easting_m, p.northing_m, zone);
       return roadcross::geo::wgs84_to_utm(ll.lat_deg, ll.lon_deg, zone).convergence_rad;
     } catch (const std::exception& e) {
@@ -352,13 +387,13 @@ class RoadcrossNode {
   // --- services ---
 
   bool assess(roadcross_ros::Assess::Request& req, roadcross_ros::Assess::Response& res) {
-    res.map_id = map_.info().map_id;
+    res.map_id = map().info().map_id;
     const auto position = position_of(req.position, res.message);
     if (!position) return true;  // success = false with the message: the call itself worked
     roadcross::AssessOptions options = settings_.assess;
     if (req.valid_distance_m > 0.0) options.valid_distance_m = req.valid_distance_m;
     if (req.use_threshold) options.threshold = req.threshold;
-    const auto a = map_.assess(*position, options);
+    const auto a = map().assess(*position, options);
     res.assessment.header.stamp = ros::Time::now();
     res.assessment.header.frame_id = settings_.utm_frame_id;
     res.assessment.map_id = res.map_id;
@@ -373,13 +408,13 @@ class RoadcrossNode {
 
   bool better_place(roadcross_ros::BetterPlace::Request& req,
                     roadcross_ros::BetterPlace::Response& res) {
-    res.map_id = map_.info().map_id;
+    res.map_id = map().info().map_id;
     const auto position = position_of(req.position, res.message);
     if (!position) return true;
     roadcross::BetterPlaceOptions options = settings_.better;
     if (req.search_radius_m > 0.0) options.search_radius_m = req.search_radius_m;
     if (req.max_candidates > 0) options.max_candidates = req.max_candidates;
-    const auto places = map_.better_place(*position, options);
+    const auto places = map().better_place(*position, options);
     if (!places.ok()) {
       res.message = places.status.message;
       return true;
@@ -390,7 +425,7 @@ class RoadcrossNode {
       out.northing_m = c.point.northing_m;
       try {
         const auto ll =
-            roadcross::geo::utm_to_wgs84(c.point.easting_m, c.point.northing_m, map_.info().zone);
+            roadcross::geo::utm_to_wgs84(c.point.easting_m, c.point.northing_m, map().info().zone);
         out.latitude_deg = ll.lat_deg;
         out.longitude_deg = ll.lon_deg;
       } catch (const std::exception&) {
@@ -413,10 +448,10 @@ class RoadcrossNode {
 
   bool road_heading(roadcross_ros::RoadHeading::Request& req,
                     roadcross_ros::RoadHeading::Response& res) {
-    res.map_id = map_.info().map_id;
+    res.map_id = map().info().map_id;
     const auto position = position_of(req.position, res.message);
     if (!position) return true;
-    const auto h = map_.road_heading(*position, settings_.max_distance_m);
+    const auto h = map().road_heading(*position, settings_.max_distance_m);
     if (!h.ok()) {
       res.message = h.status.message;
       return true;
@@ -439,7 +474,7 @@ class RoadcrossNode {
   }
 
   bool monitor(roadcross_ros::Monitor::Request& req, roadcross_ros::Monitor::Response& res) {
-    res.map_id = map_.info().map_id;
+    res.map_id = map().info().map_id;
     if (req.start.kind == roadcross_ros::Position::CURRENT) {
       res.message = "start: give where the crossing started (WGS84 or UTM), not CURRENT";
       return true;
@@ -447,7 +482,7 @@ class RoadcrossNode {
     const auto start = position_of(req.start, res.message);
     if (!start) return true;
     const auto plan =
-        roadcross::plan_crossing(map_, *start, settings_.default_width_m, settings_.kerb_margin_m);
+        roadcross::plan_crossing(map(), *start, settings_.default_width_m, settings_.kerb_margin_m);
     if (!plan.ok()) {
       res.message = plan.status.message;
       return true;
@@ -463,7 +498,7 @@ class RoadcrossNode {
       current.kind = roadcross_ros::Position::CURRENT;
       const auto here = position_of(current, res.message);
       if (!here) return true;
-      const auto utm = map_.to_utm(*here);
+      const auto utm = map().to_utm(*here);
       if (!utm.ok()) {
         res.message = utm.status.message;
         return true;
@@ -495,7 +530,7 @@ class RoadcrossNode {
 
   bool gap_decision(roadcross_ros::GapDecision::Request& req,
                     roadcross_ros::GapDecision::Response& res) {
-    res.map_id = map_.info().map_id;
+    res.map_id = map().info().map_id;
     const auto position = position_of(req.position, res.message);
     if (!position) return true;
     const std::string policy = req.policy.empty() ? settings_.policy : req.policy;
@@ -510,7 +545,7 @@ class RoadcrossNode {
       return true;
     }
     const roadcross_ros::VehicleList& list = req.use_latest_vehicles ? *vehicles_ : req.vehicles;
-    const auto crossing = roadcross::gap_crossing(map_, *position, settings_.gap_defaults);
+    const auto crossing = roadcross::gap_crossing(map(), *position, settings_.gap_defaults);
     if (!crossing.ok()) {
       res.message = crossing.status.message;
       return true;
@@ -577,40 +612,44 @@ class RoadcrossNode {
   /// dropped or answered from a half-swapped map; a process that installed the new file by
   /// rename (roadcross install) leaves the old one readable until this swap closes it.
   bool reload(roadcross_ros::Reload::Request& req, roadcross_ros::Reload::Response& res) {
-    const std::string path = req.path.empty() ? settings_.db_path : req.path;
-    res.previous_map_id = map_.info().map_id;
-    roadcross::Result<roadcross::Map> opened = roadcross::Map::open(path);
+    const std::vector<std::string> paths =
+        req.path.empty() ? settings_.db_paths : std::vector<std::string>{req.path};
+    res.previous_map_id = map().info().map_id;
+    roadcross::Result<roadcross::MapSet> opened = roadcross::MapSet::open(paths);
     if (!opened.ok()) {
-      res.message = "kept " + settings_.db_path + ": " + opened.status.message;
-      res.path = settings_.db_path;
-      res.map_id = map_.info().map_id;
+      res.message = "kept " + map().info().path + ": " + opened.status.message;
+      res.path = map().info().path;
+      res.map_id = map().info().map_id;
       ROS_ERROR("reload failed, %s", res.message.c_str());
       return true;
     }
-    if (opened->info().zone.zone != map_.info().zone.zone ||
-        opened->info().zone.northern != map_.info().zone.northern) {
+    const roadcross::geo::UtmZone zone_before = map().info().zone;
+    maps_ = std::move(*opened.value);
+    current_map_ = 0;
+    if (fix_) use_map_for(roadcross::Position::wgs84(fix_->lat_deg, fix_->lon_deg));
+    if (map().info().zone.zone != zone_before.zone ||
+        map().info().zone.northern != zone_before.northern) {
       ROS_WARN("reload: %s is in another UTM zone than the map before; UTM positions change zone",
-               path.c_str());
+               map().info().path.c_str());
     }
-    map_ = std::move(*opened.value);
-    settings_.db_path = path;
+    settings_.db_paths = paths;
     res.success = true;
-    res.path = path;
-    res.map_id = map_.info().map_id;
-    res.message = "answering from " + path;
-    ROS_INFO("roadcross: reloaded %s, map_id %s (was %s), %lld segments", path.c_str(),
+    res.path = map().info().path;
+    res.map_id = map().info().map_id;
+    res.message = "answering from " + res.path;
+    ROS_INFO("roadcross: reloaded %s, map_id %s (was %s), %lld segments", res.path.c_str(),
              res.map_id.c_str(), res.previous_map_id.c_str(),
-             static_cast<long long>(map_.info().segment_count));
+             static_cast<long long>(map().info().segment_count));
     publish_diagnostics();
     return true;
   }
 
   /// One DiagnosticStatus "roadcross: map": the path and identity of the map answering now.
   void publish_diagnostics() {
-    const roadcross::MapInfo& info = map_.info();
+    const roadcross::MapInfo& info = map().info();
     diagnostic_msgs::DiagnosticStatus status;
     status.name = "roadcross: map";
-    status.hardware_id = settings_.db_path;
+    status.hardware_id = info.path;
     status.level = info.map_id.empty() ? diagnostic_msgs::DiagnosticStatus::WARN
                                        : diagnostic_msgs::DiagnosticStatus::OK;
     status.message = info.map_id.empty() ? "map without map_id (built before map ids): rebuild"
@@ -621,7 +660,7 @@ class RoadcrossNode {
       pair.value = value;
       status.values.push_back(pair);
     };
-    add("path", settings_.db_path);
+    add("path", info.path);
     add("map_id", info.map_id);
     add("osm_timestamp", info.osm_timestamp);
     add("segment_count", std::to_string(info.segment_count));
@@ -634,7 +673,8 @@ class RoadcrossNode {
   }
 
   Settings settings_;
-  roadcross::Map map_;
+  roadcross::MapSet maps_;
+  std::size_t current_map_ = 0;  ///< index in maps_ of the map in use
   ros::Publisher diagnostics_pub_;
   ros::Timer diagnostics_timer_;
   ros::Publisher assessment_pub_;
@@ -653,18 +693,22 @@ int main(int argc, char** argv) {
   ros::NodeHandle pnh("~");
   Settings settings;
   if (!read_settings(pnh, settings)) return 2;
-  roadcross::Result<roadcross::Map> map = roadcross::Map::open(settings.db_path);
-  if (!map.ok()) {
-    ROS_FATAL("cannot open ~db '%s': %s", settings.db_path.c_str(), map.status.message.c_str());
+  roadcross::Result<roadcross::MapSet> maps = roadcross::MapSet::open(settings.db_paths);
+  if (!maps.ok()) {
+    std::string given;
+    for (const std::string& path : settings.db_paths) given += (given.empty() ? "" : ", ") + path;
+    ROS_FATAL("cannot open ~db '%s': %s", given.c_str(), maps.status.message.c_str());
     return 1;
   }
-  const roadcross::MapInfo& info = map->info();
-  ROS_INFO("roadcross: %s, map_id %s, OSM data as of %s, %lld segments, UTM zone %d%s",
-           settings.db_path.c_str(), info.map_id.empty() ? "(none)" : info.map_id.c_str(),
-           info.osm_timestamp.empty() ? "(unknown)" : info.osm_timestamp.c_str(),
-           static_cast<long long>(info.segment_count), info.zone.zone,
-           info.zone.northern ? "N" : "S");
-  RoadcrossNode node(nh, pnh, std::move(settings), std::move(*map.value));
+  for (std::size_t i = 0; i < maps->size(); ++i) {
+    const roadcross::MapInfo& info = maps->map(i).info();
+    ROS_INFO("roadcross: %s, map_id %s, OSM data as of %s, %lld segments, UTM zone %d%s",
+             info.path.c_str(), info.map_id.empty() ? "(none)" : info.map_id.c_str(),
+             info.osm_timestamp.empty() ? "(unknown)" : info.osm_timestamp.c_str(),
+             static_cast<long long>(info.segment_count), info.zone.zone,
+             info.zone.northern ? "N" : "S");
+  }
+  RoadcrossNode node(nh, pnh, std::move(settings), std::move(*maps.value));
   ros::spin();
   return 0;
 }

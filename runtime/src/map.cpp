@@ -229,6 +229,56 @@ const MapInfo& Map::info() const noexcept {
 
 namespace {
 
+bool parse_double(const std::string& text, double& out) {
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), out);
+  return ec == std::errc() && end == text.data() + text.size() && std::isfinite(out);
+}
+
+/// The map's coverage (MapInfo's extent and coverage_wgs84): from the coverage.* metadata when
+/// all eight keys parse, else from gpkg_contents' extent of segments, else (an extent left
+/// NULL) from the R*Tree, with the WGS84 box computed from the grid extent.
+template <typename ValueOf>
+void read_coverage(sqlite::Database& db, ValueOf&& value_of, MapInfo& info) {
+  const std::string_view keys[8] = {
+      schema::meta::kCoverageMinEasting, schema::meta::kCoverageMinNorthing,
+      schema::meta::kCoverageMaxEasting, schema::meta::kCoverageMaxNorthing,
+      schema::meta::kCoverageMinLat,     schema::meta::kCoverageMinLon,
+      schema::meta::kCoverageMaxLat,     schema::meta::kCoverageMaxLon};
+  double values[8] = {};
+  bool stored = true;
+  for (int i = 0; i < 8 && stored; ++i) {
+    const std::string* text = value_of(keys[i]);
+    stored = text && parse_double(*text, values[i]);
+  }
+  if (stored) {
+    info.min_easting_m = values[0];
+    info.min_northing_m = values[1];
+    info.max_easting_m = values[2];
+    info.max_northing_m = values[3];
+    info.coverage_wgs84 = {values[4], values[5], values[6], values[7]};
+    info.coverage_stored = true;
+    return;
+  }
+  auto extent =
+      db.prepare("SELECT min_x, min_y, max_x, max_y FROM gpkg_contents WHERE table_name = ?1");
+  extent.bind(1, schema::kSegmentsTable);
+  const bool has_extent = extent.step() && !extent.column_is_null(0);
+  sqlite::Statement* source = &extent;
+  std::optional<sqlite::Statement> rtree;
+  if (!has_extent) {
+    rtree.emplace(db.prepare("SELECT min(minx), min(miny), max(maxx), max(maxy) FROM " +
+                             std::string(schema::kSegmentsRtree)));
+    if (!rtree->step() || rtree->column_is_null(0)) return;  // no segment at all
+    source = &*rtree;
+  }
+  info.min_easting_m = source->column_double(0);
+  info.min_northing_m = source->column_double(1);
+  info.max_easting_m = source->column_double(2);
+  info.max_northing_m = source->column_double(3);
+  info.coverage_wgs84 = geo::wgs84_box_of_utm_rectangle(
+      info.zone, info.min_easting_m, info.min_northing_m, info.max_easting_m, info.max_northing_m);
+}
+
 Status read_metadata(sqlite::Database& db, MapInfo& info) {
   const std::string& path = info.path;
   std::int64_t application_id = 0;
@@ -304,15 +354,7 @@ Status read_metadata(sqlite::Database& db, MapInfo& info) {
   if (const std::string* count = value_of(schema::meta::kSegmentCount)) {
     info.segment_count = std::strtoll(count->c_str(), nullptr, 10);
   }
-  auto extent =
-      db.prepare("SELECT min_x, min_y, max_x, max_y FROM gpkg_contents WHERE table_name = ?1");
-  extent.bind(1, schema::kSegmentsTable);
-  if (extent.step()) {
-    info.min_easting_m = extent.column_double(0);
-    info.min_northing_m = extent.column_double(1);
-    info.max_easting_m = extent.column_double(2);
-    info.max_northing_m = extent.column_double(3);
-  }
+  read_coverage(db, value_of, info);
   return {};
 }
 
@@ -367,12 +409,21 @@ Status Map::Impl::to_plane(const Position& position, schema::PlanePoint& out) co
   if (!std::isfinite(position.first) || !std::isfinite(position.second)) {
     return {StatusCode::invalid_argument, "position has a NaN or infinite coordinate"};
   }
-  if (position.kind == Position::Kind::utm) {
+  const bool own_zone = position.zone.zone == 0 || position.zone == info.zone;
+  if (position.kind == Position::Kind::utm && own_zone) {
     out = {position.first, position.second};
     return {};
   }
   try {
-    const geo::UtmPoint p = geo::wgs84_to_utm(position.first, position.second, info.zone);
+    geo::LatLon ll{position.first, position.second};
+    if (position.kind == Position::Kind::utm) {
+      if (position.zone.zone < 1 || position.zone.zone > 60) {
+        return {StatusCode::invalid_argument,
+                "UTM zone " + std::to_string(position.zone.zone) + " is not in 1..60"};
+      }
+      ll = geo::utm_to_wgs84(position.first, position.second, position.zone);
+    }
+    const geo::UtmPoint p = geo::wgs84_to_utm(ll.lat_deg, ll.lon_deg, info.zone);
     out = {p.easting_m, p.northing_m};
     return {};
   } catch (const std::exception& e) {

@@ -553,6 +553,76 @@ class PositionArguments(unittest.TestCase):
 
 
 @NEEDS_BUILD
+class MapSetOverTwoMaps(unittest.TestCase):
+    """roadcross.MapSet over the Prague map and the straight road (lat 50.0, lon 14.399..14.401,
+    8 km south of Prague's map): each position is answered by the map that covers it, exactly
+    as that Map alone answers, and the answer names the map (as the CLI's --db twice does)."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.set = roadcross.MapSet([prague_db, straight_db])
+        cls.prague = roadcross.Map(prague_db)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.set.close()
+        cls.prague.close()
+
+    def test_each_position_from_its_map(self):
+        self.assertEqual(len(self.set), 2)
+        self.assertEqual([info.path for info in self.set.maps], [prague_db, straight_db])
+        for lat, lon in PRAGUE_POSITIONS[:4]:
+            with self.subTest(lat=lat, lon=lon):
+                answer, source = self.set.assess(lat=lat, lon=lon)
+                alone = self.prague.assess(lat=lat, lon=lon)
+                self.assertEqual((source.index, source.path, source.map_id), (0, prague_db, None))
+                self.assertEqual(answer.segment_id, alone.segment_id)
+                self.assertEqual(answer.distance_m, alone.distance_m)
+                self.assertEqual(answer.reasons, alone.reasons)
+                cli = cli_json("assess", "--db", prague_db, "--db", straight_db,
+                               *lat_lon_args(lat, lon))
+                self.assertEqual(cli["map"], {"path": prague_db, "map_id": None})
+                self.assertEqual(cli["segment_id"], answer.segment_id)
+        road, source = self.set.nearest(lat=50.0 + 5.0 / 111229.0, lon=14.4)
+        self.assertEqual((source.index, source.path), (1, straight_db))
+        self.assertAlmostEqual(road.distance_m, 5.0, delta=0.01)
+
+    def test_utm_positions_need_their_zone(self):
+        e, n = self.prague.to_utm(lat=50.0755, lon=14.4186)
+        with self.assertRaises(roadcross.InvalidArgumentError) as raised:
+            self.set.nearest(easting=e, northing=n)
+        self.assertIn("zone", str(raised.exception))
+        road, source = self.set.nearest(easting=e, northing=n, utm_zone="33N")
+        self.assertEqual(source.index, 0)
+        self.assertEqual(road.segment_id, self.prague.nearest(easting=e, northing=n).segment_id)
+        with self.assertRaises(ValueError):
+            self.set.nearest(easting=e, northing=n, utm_zone="99X")
+
+    def test_coverage_in_map_info(self):
+        info = self.set.maps[1]
+        self.assertTrue(info.coverage_stored)
+        min_lat, min_lon, max_lat, max_lon = info.extent_wgs84_deg
+        # The road's ends, lat 50.0 at lon 14.399 and 14.401, within the box's 1e-5 deg margin.
+        self.assertAlmostEqual(min_lon, 14.399, delta=2e-5)
+        self.assertAlmostEqual(max_lon, 14.401, delta=2e-5)
+        self.assertLess(min_lat, 50.0)
+        self.assertGreater(max_lat, 50.0)
+
+    def test_a_directory_with_a_file_that_is_not_a_map(self):
+        with tempfile.TemporaryDirectory() as fleet:
+            shutil.copy(straight_db, os.path.join(fleet, "straight.gpkg"))
+            with open(os.path.join(fleet, "notes.txt"), "w") as f:
+                f.write("not a map\n")
+            with self.assertRaises(roadcross.NotARoadcrossMapError) as raised:
+                roadcross.MapSet([fleet])
+            self.assertIn(os.path.join(fleet, "notes.txt"), str(raised.exception))
+            os.remove(os.path.join(fleet, "notes.txt"))
+            with roadcross.MapSet([fleet]) as fleet_set:
+                self.assertEqual(len(fleet_set), 1)
+            self.assertTrue(fleet_set.closed)
+
+
+@NEEDS_BUILD
 class DocExamples(unittest.TestCase):
     """Each Python example in docs/embedding.md prints exactly the output shown after it."""
 

@@ -206,6 +206,12 @@ def main():
         time.sleep(0.2)
     print(f"ok: rosmaster on port {port}")
 
+    not_only_maps = os.path.join(WORK, "not_only_maps")
+    os.makedirs(not_only_maps, exist_ok=True)
+    shutil.copy(db, os.path.join(not_only_maps, "map.gpkg"))
+    with open(os.path.join(not_only_maps, "notes.txt"), "w") as f:
+        f.write("not a map\n")
+
     # Bad parameters: the node exits non-zero with a message naming the parameter or file.
     for index, (args, expected, what) in enumerate([
         ([], "parameter ~db is not set", "no ~db"),
@@ -214,6 +220,11 @@ def main():
         (["_db:=" + db, "_max_distance_m:=-5"], "~max_distance_m = -5 is out of range",
          "negative ~max_distance_m"),
         (["_db:=" + db, "_gap/policy:=fast"], "~gap/policy = 'fast'", "unknown ~gap/policy"),
+        # A list of maps (a set): the one that cannot be opened is named.
+        (["_db:=[" + db + ", " + os.path.join(WORK, "missing.gpkg") + "]"],
+         os.path.join(WORK, "missing.gpkg") + ": no such file", "a missing map in a list"),
+        (["_db:=" + not_only_maps], os.path.join(not_only_maps, "notes.txt"),
+         "a directory with a file that is not a map"),
     ]):
         name = f"bad_parameters_{index}"
         res = subprocess.run([NODE, "__name:=" + name, *args], env=env, capture_output=True,

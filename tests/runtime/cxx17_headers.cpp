@@ -22,3 +22,4 @@ namespace {
 }
 
 }  // namespace
+#include "roadcross/map_set.hpp"

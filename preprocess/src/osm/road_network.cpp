@@ -187,8 +187,8 @@ class ExtraHandler : public osmium::handler::Handler {
 
 /// One pass with the road network's handler and, when there is one, the extra reader's.
 template <typename Handler>
-void read_pass(const std::string& path, osmium::osm_entity_bits::type entities, Handler& handler,
-               ExtraOsmReader* extra, Progress& progress) {
+void read_pass(const std::vector<std::string>& path, osmium::osm_entity_bits::type entities,
+               Handler& handler, ExtraOsmReader* extra, Progress& progress) {
   if (!extra) return read_osm_pass(path, entities, progress, handler);
   ExtraHandler extra_handler(*extra);
   read_osm_pass(path, entities, progress, handler, extra_handler);
@@ -217,7 +217,16 @@ void sort_by_id_unique(std::vector<T>& items) {
 }  // namespace
 
 RoadNetwork read_road_network(const std::string& path, Progress& progress, ExtraOsmReader* extra) {
-  check_readable(path);
+  return read_road_network(std::vector<std::string>{path}, progress, extra);
+}
+
+RoadNetwork read_road_network(const std::vector<std::string>& paths, Progress& progress,
+                              ExtraOsmReader* extra) {
+  if (paths.empty()) throw InputError("--osm", "no OSM input given");
+  for (const std::string& each : paths) check_readable(each);
+  // Errors about the input as a whole name every file of it.
+  std::string path = paths.front();
+  for (std::size_t i = 1; i < paths.size(); ++i) path += " + " + paths[i];
   RoadNetwork network;
   network.source_path = path;
   try {
@@ -226,7 +235,7 @@ RoadNetwork read_road_network(const std::string& path, Progress& progress, Extra
     const auto first_pass = extra && extra->wants_relations()
                                 ? osmium::osm_entity_bits::way | osmium::osm_entity_bits::relation
                                 : osmium::osm_entity_bits::way;
-    read_pass(path, first_pass, ways, extra, progress);
+    read_pass(paths, first_pass, ways, extra, progress);
     if (extra) extra->ways_done();
     sort_by_id_unique(network.ways);
     sort_by_id_unique(network.crossing_ways);
@@ -258,7 +267,7 @@ RoadNetwork read_road_network(const std::string& path, Progress& progress, Extra
 
     progress.start_stage("reading node locations", "MB");
     NodeLocationCollector nodes(network, wanted, crossing_only);
-    read_pass(path, osmium::osm_entity_bits::node, nodes, extra, progress);
+    read_pass(paths, osmium::osm_entity_bits::node, nodes, extra, progress);
     if (extra) extra->nodes_done();
     sort_by_id_unique(network.locations);
     sort_by_id_unique(network.crossing_way_locations);

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "roadcross/files/atomic_file.hpp"
+#include "roadcross/geo_box.hpp"
 #include "roadcross/preprocess/common/errors.hpp"
 #include "roadcross/preprocess/common/interrupt.hpp"
 #include "roadcross/preprocess/common/progress.hpp"
@@ -419,6 +420,33 @@ void GeoPackageWriter::finish(const DatabaseContents& contents, Progress& progre
                         " crossings");
 }
 
+namespace {
+
+/// The shortest text that reads back as the same double ("%.17g"): the stored extent is
+/// exactly gpkg_contents', and the same inputs give the same text.
+std::string exact(double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.17g", value);
+  return text;
+}
+
+/// The coverage keys (schema::meta::kCoverage*) of a map whose segments span `extent`.
+std::vector<std::pair<std::string_view, std::string>> coverage_metadata(
+    const geo::UtmZone& zone, const schema::Envelope& extent) {
+  const geo::LatLonBox box =
+      geo::wgs84_box_of_utm_rectangle(zone, extent.min_x, extent.min_y, extent.max_x, extent.max_y);
+  return {{schema::meta::kCoverageMinEasting, exact(extent.min_x)},
+          {schema::meta::kCoverageMinNorthing, exact(extent.min_y)},
+          {schema::meta::kCoverageMaxEasting, exact(extent.max_x)},
+          {schema::meta::kCoverageMaxNorthing, exact(extent.max_y)},
+          {schema::meta::kCoverageMinLat, exact(box.min_lat_deg)},
+          {schema::meta::kCoverageMinLon, exact(box.min_lon_deg)},
+          {schema::meta::kCoverageMaxLat, exact(box.max_lat_deg)},
+          {schema::meta::kCoverageMaxLon, exact(box.max_lon_deg)}};
+}
+
+}  // namespace
+
 void GeoPackageWriter::write_rows_and_metadata(const DatabaseContents& contents,
                                                Progress& progress) {
   const RoadGraph& graph = *contents.graph;
@@ -454,6 +482,7 @@ void GeoPackageWriter::write_rows_and_metadata(const DatabaseContents& contents,
   put(schema::meta::kUtmNorthern, zone_.northern ? "1" : "0");
   put(schema::meta::kEpsg, std::to_string(zone_.epsg()));
   put(schema::meta::kSegmentCount, std::to_string(graph.segments.size()));
+  for (const auto& [key, value] : coverage_metadata(zone_, segment_extent_)) put(key, value);
   for (const auto& [key, value] : contents.metadata) put(key, value);
   db.exec("COMMIT");
 }

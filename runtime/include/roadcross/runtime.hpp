@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "roadcross/geo.hpp"
+#include "roadcross/geo_box.hpp"
 
 namespace roadcross {
 
@@ -54,18 +55,27 @@ struct Result {
   T* operator->() { return &*value; }
 };
 
-/// A query position: UTM easting/northing in the map's zone, or WGS84 latitude/longitude.
+/// A query position: UTM easting/northing, or WGS84 latitude/longitude.
 struct Position {
   enum class Kind { utm, wgs84 };
   Kind kind = Kind::utm;
   double first = 0.0;   ///< easting_m or lat_deg
   double second = 0.0;  ///< northing_m or lon_deg
+  /// The UTM position's zone; zone 0 (the default) means the zone of the map asked. A Map
+  /// reprojects a position given in another zone; a MapSet, whose maps may lie in several
+  /// zones, takes a UTM position only with its zone.
+  geo::UtmZone zone{0, true};
 
+  /// Easting and northing in the zone of the map asked (metres).
   static Position utm(double easting_m, double northing_m) noexcept {
-    return {Kind::utm, easting_m, northing_m};
+    return {Kind::utm, easting_m, northing_m, geo::UtmZone{0, true}};
+  }
+  /// Easting and northing in `zone` (metres; zone 1..60).
+  static Position utm(double easting_m, double northing_m, geo::UtmZone zone) noexcept {
+    return {Kind::utm, easting_m, northing_m, zone};
   }
   static Position wgs84(double lat_deg, double lon_deg) noexcept {
-    return {Kind::wgs84, lat_deg, lon_deg};
+    return {Kind::wgs84, lat_deg, lon_deg, geo::UtmZone{0, true}};
   }
 };
 
@@ -81,7 +91,8 @@ struct MapInfo {
   geo::UtmZone zone;
   int epsg = 0;
   std::int64_t segment_count = 0;
-  /// Extent of all segments in the map's UTM zone, metres.
+  /// Extent of all segments in the map's UTM zone, metres (the coverage.* metadata, else
+  /// gpkg_contents' extent of segments, else the R*Tree's).
   double min_easting_m = 0.0, min_northing_m = 0.0, max_easting_m = 0.0, max_northing_m = 0.0;
   /// The map's identity: SHA-256 of its content, 64 lower-case hex digits (roadcross verify
   /// recomputes it); empty for a map built before map_id existed.
@@ -89,6 +100,12 @@ struct MapInfo {
   /// The newest OSM object's timestamp, ISO 8601 UTC ("2026-03-01T12:00:00Z"): how current the
   /// map's roads are. Empty when the OSM input carried no timestamps.
   std::string osm_timestamp;
+  /// The same extent's WGS84 box, degrees (coverage.*_deg metadata, else computed on open with
+  /// geo::wgs84_box_of_utm_rectangle).
+  geo::LatLonBox coverage_wgs84;
+  /// True when the map stores its coverage (coverage.* metadata); false for maps written
+  /// before it, whose coverage was computed on open.
+  bool coverage_stored = false;
   /// Every row of the metadata table (schema version, parameters, inputs), sorted by key.
   std::vector<std::pair<std::string, std::string>> metadata;
 };

@@ -15,6 +15,10 @@ namespace roadcross::preprocess {
 
 struct BuildOptions {
   std::string osm_path;
+  /// Further OSM extracts read with osm_path as one road network: merged by object id (an
+  /// object several files hold is read once), each file sorted by type and id. The UTM zone
+  /// is chosen for the merged network as for one file.
+  std::vector<std::string> extra_osm_paths;
   std::string output_path;
   Parameters parameters;
   /// Elevation inputs (XYZ point files and rasters, in the order given) and the CRS of the XYZ

@@ -55,6 +55,19 @@ inline constexpr std::string_view kOsmTimestamp = "osm_timestamp";
 /// "content.<table>.<column>": SHA-256 of one column's values, from which map_id is computed;
 /// lets verify name the column that changed.
 inline constexpr std::string_view kContentDigestPrefix = "content.";
+/// The map's coverage, so that a set of maps picks the one for a position without querying
+/// each map's index: the segments' extent in the map's UTM grid (metres, as gpkg_contents'
+/// min_x..max_y of segments) and the WGS84 box of that rectangle (degrees,
+/// geo::wgs84_box_of_utm_rectangle). Maps written before these keys: the runtime computes both
+/// on open from gpkg_contents.
+inline constexpr std::string_view kCoverageMinEasting = "coverage.min_easting_m";
+inline constexpr std::string_view kCoverageMinNorthing = "coverage.min_northing_m";
+inline constexpr std::string_view kCoverageMaxEasting = "coverage.max_easting_m";
+inline constexpr std::string_view kCoverageMaxNorthing = "coverage.max_northing_m";
+inline constexpr std::string_view kCoverageMinLat = "coverage.min_lat_deg";
+inline constexpr std::string_view kCoverageMinLon = "coverage.min_lon_deg";
+inline constexpr std::string_view kCoverageMaxLat = "coverage.max_lat_deg";
+inline constexpr std::string_view kCoverageMaxLon = "coverage.max_lon_deg";
 /// Parameters are stored as "param.<name>"; inputs as "input.<n>.path", "input.<n>.sha256",
 /// "input.<n>.kind".
 inline constexpr std::string_view kParamPrefix = "param.";

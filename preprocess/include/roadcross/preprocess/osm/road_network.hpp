@@ -118,4 +118,10 @@ class ExtraOsmReader {
 RoadNetwork read_road_network(const std::string& path, Progress& progress,
                               ExtraOsmReader* extra = nullptr);
 
+/// The same over several extracts read as one (MergedOsmReader: by type and id, an object held
+/// by several files read once). Each file must be sorted by type and id when there are two or
+/// more; errors name the file at fault, or all of them joined by " + ".
+RoadNetwork read_road_network(const std::vector<std::string>& paths, Progress& progress,
+                              ExtraOsmReader* extra = nullptr);
+
 }  // namespace roadcross::preprocess
