@@ -36,6 +36,12 @@ struct GapCrossing {
   /// sight_backward_m: bends, buildings, walls and terrain), metres, >= 0. A vehicle can hide
   /// beyond it even inside the sensor range. Unset: only the sensor range limits the view.
   std::optional<double> sight_forward_m, sight_backward_m;
+  /// Under position uncertainty: how far the robot may be from its fix along the road (half
+  /// the extent of the position's region along it), metres, >= 0; 0 for an exact position.
+  /// Vehicles tracked in the UTM grid may be that much nearer than they seem: the gap decision
+  /// widens the robot's corridor by it for them (not for those tracked relative to the robot),
+  /// and junction_distance_m is already shortened by it.
+  double along_road_uncertainty_m = 0.0;
 };
 
 /// Defaults for what the DB does not say.
@@ -46,7 +52,8 @@ struct GapCrossingDefaults {
 };
 
 /// The crossing at `position`: plan_crossing's start and heading, the DB's lanes, width,
-/// maxspeed (else `defaults`), junction distance and sight distances.
+/// maxspeed (else `defaults`), junction distance and sight distances; with the position's
+/// uncertainty, along_road_uncertainty_m from its region.
 Result<GapCrossing> gap_crossing(Map& map, const Position& position,
                                  const GapCrossingDefaults& defaults = {}) noexcept;
 
