@@ -34,6 +34,10 @@ int HeadingCommand::run() {
       heading->on_centreline ? ", on the centreline: side unknown" : ", from this side across");
   std::printf("frame     UTM grid; add %+.5f rad for a yaw from true east\n",
               heading->convergence_rad);
+  if (heading->heading_spread_rad) {
+    std::printf("spread    %.4f rad (%.1f deg) over the position's region\n",
+                *heading->heading_spread_rad, geo::rad_to_deg(*heading->heading_spread_rad));
+  }
   return 0;
 }
 

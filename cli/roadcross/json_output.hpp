@@ -17,6 +17,7 @@ nlohmann::ordered_json or_null(const std::optional<T>& value) {
 
 nlohmann::ordered_json road_json(const NearestRoad& road);
 nlohmann::ordered_json heading_json(const RoadHeading& heading);
+nlohmann::ordered_json region_json(const UncertaintyRegion& region);
 nlohmann::ordered_json assessment_json(const Assessment& assessment);
 nlohmann::ordered_json better_places_json(const BetterPlaces& places);
 

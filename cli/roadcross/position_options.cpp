@@ -1,5 +1,6 @@
 #include "position_options.hpp"
 
+#include <cmath>
 #include <iostream>
 
 namespace roadcross::cli {
@@ -21,12 +22,38 @@ void QueryOptions::add_to(CLI::App& command) {
                                  "give a position with --lat/--lon or --utm E N");
     }
   });
+  const CLI::Validator finite_positive(
+      [](const std::string& text) -> std::string {
+        double value = 0.0;
+        if (!CLI::detail::lexical_cast(text, value) || !std::isfinite(value) || !(value > 0.0))
+          return "must be a finite number > 0, got " + text;
+        return {};
+      },
+      "SIGMA > 0");
+  command
+      .add_option("--sigma", sigma_m,
+                  "the position's standard deviation, metres (> 0): answer over the region it "
+                  "may be in (docs/runtime.md, \"Position uncertainty\")")
+      ->check(finite_positive);
+  command
+      .add_option("--region-probability", region_probability,
+                  "with --sigma: the probability the region holds, in (0, 1)")
+      ->capture_default_str()
+      ->check(CLI::Validator(
+          [](const std::string& text) -> std::string {
+            double value = 0.0;
+            if (!CLI::detail::lexical_cast(text, value) || !(value > 0.0 && value < 1.0))
+              return "must be in (0, 1), got " + text;
+            return {};
+          },
+          "P in (0, 1)"));
   command.add_flag("--json", json, "print JSON instead of text");
 }
 
 Position QueryOptions::position() const {
-  if (!utm.empty()) return Position::utm(utm[0], utm[1]);
-  return Position::wgs84(*lat_deg, *lon_deg);
+  const Position fix =
+      utm.empty() ? Position::wgs84(*lat_deg, *lon_deg) : Position::utm(utm[0], utm[1]);
+  return sigma_m ? fix.with_sigma(*sigma_m, region_probability) : fix;
 }
 
 std::optional<Map> open_map_or_report(const std::string& path) {

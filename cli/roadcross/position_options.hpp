@@ -16,11 +16,14 @@ struct QueryOptions {
   std::optional<double> lat_deg;
   std::optional<double> lon_deg;
   std::vector<double> utm;  ///< easting_m northing_m
+  std::optional<double> sigma_m;
+  double region_probability = 0.95;
   bool json = false;
 
-  /// Adds --db, --lat, --lon, --utm and --json to `command`.
+  /// Adds --db, --lat, --lon, --utm, --sigma, --region-probability and --json to `command`.
   void add_to(CLI::App& command);
-  /// The position given on the command line (CLI11 already ensured exactly one form).
+  /// The position given on the command line (CLI11 already ensured exactly one form), with
+  /// the circular uncertainty of --sigma when given.
   Position position() const;
 };
 
