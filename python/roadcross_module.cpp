@@ -152,10 +152,53 @@ Position position_from(std::optional<double> lat, std::optional<double> lon,
       "the map's zone)");
 }
 
+using EnuCovariance = std::vector<std::vector<double>>;
+
+/// The position with its uncertainty: sigma_m (circular, metres) or covariance_enu_m2 (2x2 in
+/// true ENU, m^2, as a GNSS receiver reports it), not both.
+Position uncertain_position_from(Position fix, std::optional<double> sigma_m,
+                                 const std::optional<EnuCovariance>& covariance_enu_m2,
+                                 double region_probability) {
+  if (sigma_m && covariance_enu_m2) {
+    throw py::type_error("give sigma_m= or covariance_enu_m2=, not both");
+  }
+  if (sigma_m) return fix.with_sigma(*sigma_m, region_probability);
+  if (covariance_enu_m2) {
+    const EnuCovariance& c = *covariance_enu_m2;
+    if (c.size() != 2 || c[0].size() != 2 || c[1].size() != 2) {
+      throw py::value_error("covariance_enu_m2 must be 2x2: [[ee, en], [en, nn]] (m^2)");
+    }
+    if (!(c[0][1] == c[1][0])) {
+      throw py::value_error("covariance_enu_m2 must be symmetric: [[ee, en], [en, nn]]");
+    }
+    return fix.with_uncertainty(
+        PositionUncertainty::enu(c[0][0], c[0][1], c[1][1], region_probability));
+  }
+  return fix;
+}
+
 // The four position keywords, first after the keyword-only marker of every positional query.
 #define ROADCROSS_POSITION_ARGS                                            \
   py::kw_only(), py::arg("lat") = py::none(), py::arg("lon") = py::none(), \
                  py::arg("easting") = py::none(), py::arg("northing") = py::none()
+// The position keywords with its uncertainty (assess, better_place, road_heading).
+#define ROADCROSS_UNCERTAIN_POSITION_ARGS                                         \
+  ROADCROSS_POSITION_ARGS,                                                        \
+      py::arg("sigma_m") = py::none(), py::arg("covariance_enu_m2") = py::none(), \
+      py::arg("region_probability") = PositionUncertainty{}.region_probability
+#define ROADCROSS_UNCERTAIN_POSITION_PARAMS                                            \
+  std::optional<double> lat, std::optional<double> lon, std::optional<double> easting, \
+      std::optional<double> northing, std::optional<double> sigma_m,                   \
+      std::optional<EnuCovariance> covariance_enu_m2, double region_probability
+#define ROADCROSS_UNCERTAIN_POSITION                                                              \
+  uncertain_position_from(position_from(lat, lon, easting, northing), sigma_m, covariance_enu_m2, \
+                          region_probability)
+#define ROADCROSS_UNCERTAINTY_DOC                                                           \
+  "Uncertainty (keyword-only, optional): sigma_m: the position's standard deviation, "      \
+  "metres, > 0; or covariance_enu_m2: [[ee, en], [en, nn]] in true ENU, m^2 (e.g. "         \
+  "NavSatFix.position_covariance's first 2x2 block); region_probability: the share of the " \
+  "Gaussian the region holds, (0, 1). The answer then holds over the whole region "         \
+  "(docs/runtime.md, \"Position uncertainty\").\n"
 #define ROADCROSS_POSITION_DOC                                                             \
   "Position (keyword-only): lat, lon: WGS84 latitude and longitude, degrees; or easting, " \
   "northing: UTM metres in the map's zone (Map.info.utm_zone).\n"
@@ -290,11 +333,37 @@ void bind_values(py::module_& m) {
       .def_readonly("on_centreline", &RoadHeading::on_centreline,
                     "the query is on the centreline: the side is unknown and the right-hand "
                     "normal of the way direction is returned")
+      .def_readonly("heading_spread_rad", &RoadHeading::heading_spread_rad,
+                    "with an uncertain position: the largest difference between the road's "
+                    "direction at the fix and anywhere in its region (as axes), radians, "
+                    "[0, pi/2]; else None")
       .def_property_readonly(
           "distance_m", [](const RoadHeading& h) { return h.road.distance_m; },
           "distance to the centreline, metres");
   add_repr(heading, "RoadHeading",
            {"road_heading_rad", "crossing_heading_rad", "distance_m", "on_centreline"});
+
+  py::class_<UncertaintyRegion> region(
+      m, "UncertaintyRegion",
+      "The region an uncertain position may be in and the answer over it (docs/runtime.md, "
+      "\"Position uncertainty\").");
+  region
+      .def_readonly("region_probability", &UncertaintyRegion::region_probability,
+                    "the Gaussian mass the region holds")
+      .def_readonly("semi_major_m", &UncertaintyRegion::semi_major_m, "metres")
+      .def_readonly("semi_minor_m", &UncertaintyRegion::semi_minor_m, "metres")
+      .def_readonly("major_axis_yaw_rad", &UncertaintyRegion::major_axis_yaw_rad,
+                    "ENU grid yaw of the major axis, radians, (-pi/2, pi/2]")
+      .def_readonly("segment_ids", &UncertaintyRegion::segment_ids,
+                    "segments nearest somewhere in the region or crossing it, the fix's first")
+      .def_readonly("same_road", &UncertaintyRegion::same_road,
+                    "all on the fix's road (same OSM way or name)")
+      .def_readonly("suitable_share", &UncertaintyRegion::suitable_share,
+                    "share of the region's probability on suitable places, [0, 1]")
+      .def_readonly("heading_spread_rad", &UncertaintyRegion::heading_spread_rad,
+                    "largest difference of the road's direction over the region, radians");
+  add_repr(region, "UncertaintyRegion",
+           {"semi_major_m", "semi_minor_m", "segment_ids", "same_road", "suitable_share"});
 
   py::class_<Assessment> assessment(
       m, "Assessment",
@@ -336,6 +405,8 @@ void bind_values(py::module_& m) {
                     "True in a tunnel, building passage or covered=yes")
       .def_readonly("override_note", &Assessment::override_note,
                     "the operator's note when an override applies, else ''")
+      .def_readonly("region", &Assessment::region,
+                    "with an uncertain position: the UncertaintyRegion; else None")
       .def_readonly("reasons", &Assessment::reasons,
                     "reason codes (NEAR_JUNCTION, SHARP_BEND, BUSY_ROAD, TOO_FAR_FROM_ROAD, "
                     "LOW_SCORE, ...); roadcross.describe_reason(code) gives a sentence")
@@ -369,7 +440,10 @@ void bind_values(py::module_& m) {
       .def_readonly("crossing_heading_rad", &Candidate::crossing_heading_rad,
                     "ENU grid yaw across the road from that side, radians")
       .def_readonly("reasons", &Candidate::reasons,
-                    "reason codes at that place, as in Assessment.reasons");
+                    "reason codes at that place, as in Assessment.reasons")
+      .def_readonly("suitable_share", &Candidate::suitable_share,
+                    "with an uncertain position: the share of the region around the place on "
+                    "suitable places (suitable then holds over that region); else None");
   add_repr(candidate, "Candidate",
            {"point", "walking_distance_m", "suitable", "score", "designated_crossing"});
 
@@ -587,17 +661,17 @@ void bind_map(py::module_& m) {
           "max_distance_m: search radius, metres, > 0; NoRoadError when no road is that near.")
       .def(
           "assess",
-          [](PyMap& self, std::optional<double> lat, std::optional<double> lon,
-             std::optional<double> easting, std::optional<double> northing,
+          [](PyMap& self, ROADCROSS_UNCERTAIN_POSITION_PARAMS,
              std::optional<double> valid_distance_m, std::optional<double> threshold,
              double max_distance_m) {
             return value_or_raise(
-                self.get().assess(position_from(lat, lon, easting, northing),
+                self.get().assess(ROADCROSS_UNCERTAIN_POSITION,
                                   assess_options(valid_distance_m, threshold, max_distance_m)));
           },
-          ROADCROSS_POSITION_ARGS, "valid_distance_m"_a = py::none(), "threshold"_a = py::none(),
-          "max_distance_m"_a = AssessOptions{}.max_distance_m,
+          ROADCROSS_UNCERTAIN_POSITION_ARGS, "valid_distance_m"_a = py::none(),
+          "threshold"_a = py::none(), "max_distance_m"_a = AssessOptions{}.max_distance_m,
           "Is this a suitable place to cross (Assessment).\n" ROADCROSS_POSITION_DOC
+              ROADCROSS_UNCERTAINTY_DOC
           "valid_distance_m: valid within this distance of a centreline, metres (None: the "
           "map's, 10 m by default); threshold: suitable when score + context_score >= this "
           "(None: the map's); max_distance_m: how far to look for a road, metres, > 0.")
@@ -614,34 +688,33 @@ void bind_map(py::module_& m) {
           "is no such segment. Thresholds as in assess.")
       .def(
           "better_place",
-          [](PyMap& self, std::optional<double> lat, std::optional<double> lon,
-             std::optional<double> easting, std::optional<double> northing, double search_radius_m,
+          [](PyMap& self, ROADCROSS_UNCERTAIN_POSITION_PARAMS, double search_radius_m,
              std::size_t max_candidates, std::optional<double> valid_distance_m,
              std::optional<double> threshold) {
             BetterPlaceOptions options;
             options.search_radius_m = search_radius_m;
             options.max_candidates = max_candidates;
             options.assess = assess_options(valid_distance_m, threshold, 1000.0);
-            return value_or_raise(
-                self.get().better_place(position_from(lat, lon, easting, northing), options));
+            return value_or_raise(self.get().better_place(ROADCROSS_UNCERTAIN_POSITION, options));
           },
-          ROADCROSS_POSITION_ARGS, "search_radius_m"_a = BetterPlaceOptions{}.search_radius_m,
+          ROADCROSS_UNCERTAIN_POSITION_ARGS,
+          "search_radius_m"_a = BetterPlaceOptions{}.search_radius_m,
           "max_candidates"_a = BetterPlaceOptions{}.max_candidates,
           "valid_distance_m"_a = py::none(), "threshold"_a = py::none(),
           "Better places to cross nearby, reached by walking along the road on the robot's side "
-          "(BetterPlaces).\n" ROADCROSS_POSITION_DOC
+          "(BetterPlaces).\n" ROADCROSS_POSITION_DOC ROADCROSS_UNCERTAINTY_DOC
           "search_radius_m: walking distance, metres, > 0; max_candidates: at most this many; "
           "thresholds as in assess.")
       .def(
           "road_heading",
-          [](PyMap& self, std::optional<double> lat, std::optional<double> lon,
-             std::optional<double> easting, std::optional<double> northing, double max_distance_m) {
-            return value_or_raise(self.get().road_heading(
-                position_from(lat, lon, easting, northing), max_distance_m));
+          [](PyMap& self, ROADCROSS_UNCERTAIN_POSITION_PARAMS, double max_distance_m) {
+            return value_or_raise(
+                self.get().road_heading(ROADCROSS_UNCERTAIN_POSITION, max_distance_m));
           },
-          ROADCROSS_POSITION_ARGS, "max_distance_m"_a = 1000.0,
+          ROADCROSS_UNCERTAIN_POSITION_ARGS, "max_distance_m"_a = 1000.0,
           "The road's direction and the crossing heading (RoadHeading; ENU grid yaws, "
-          "radians).\n" ROADCROSS_POSITION_DOC "max_distance_m: search radius, metres, > 0.")
+          "radians).\n" ROADCROSS_POSITION_DOC ROADCROSS_UNCERTAINTY_DOC
+          "max_distance_m: search radius, metres, > 0.")
       .def(
           "plan_crossing",
           [](PyMap& self, std::optional<double> lat, std::optional<double> lon,
