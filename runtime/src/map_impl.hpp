@@ -51,6 +51,8 @@ struct RegionSegment {
   double min_x = 0.0, min_y = 0.0, max_x = 0.0, max_y = 0.0;
   std::size_t sample_count = 0;       ///< samples of the region whose nearest segment this is
   bool centreline_in_region = false;  ///< its centreline runs through the region's ellipse
+  /// Per edge: the axial difference of its direction from the fix's, radians; -1 until needed.
+  std::vector<double> edge_spread_rad;
 };
 
 /// The geometry of an uncertain position's region: which segments it touches, how much of its
@@ -81,6 +83,7 @@ struct Map::Impl {
   std::vector<schema::PlanePoint> best_geometry;
   // Reused by the region of an uncertain position; only the first segment_count are live.
   std::vector<detail::RegionSegment> region_segments;
+  std::vector<std::pair<double, std::size_t>> by_box_distance;  // (metres from the fix, index)
 
   Impl(sqlite::Database&& database, MapInfo&& map_info)
       : db(std::move(database)),

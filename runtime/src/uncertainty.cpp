@@ -102,11 +102,33 @@ Status grid_covariance(const PositionUncertainty& u, const geo::UtmZone& zone,
   return {};
 }
 
-/// Lower bound of the distance from `p` to anything inside the box of `s`.
-double box_distance_m(const detail::RegionSegment& s, const schema::PlanePoint& p) {
+/// Lower bound of the squared distance from `p` to anything inside the box of `s`, m^2.
+double box_distance_sq_m2(const detail::RegionSegment& s, const schema::PlanePoint& p) {
   const double dx = std::max({s.min_x - p.x, 0.0, p.x - s.max_x});
   const double dy = std::max({s.min_y - p.y, 0.0, p.y - s.max_y});
-  return std::hypot(dx, dy);
+  return dx * dx + dy * dy;
+}
+
+/// Squared distance from `p` to the polyline, m^2, and the edge it is nearest to (squares,
+/// not hypot: this runs for every sample and candidate).
+double polyline_distance_sq_m2(const std::vector<schema::PlanePoint>& points,
+                               const schema::PlanePoint& p, std::size_t& edge) {
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i + 1 < points.size(); ++i) {
+    const schema::PlanePoint a = points[i], b = points[i + 1];
+    const double dx = b.x - a.x, dy = b.y - a.y;
+    const double length_sq = dx * dx + dy * dy;
+    double t = 0.0;
+    if (length_sq > 0.0)
+      t = std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / length_sq, 0.0, 1.0);
+    const double ex = a.x + t * dx - p.x, ey = a.y + t * dy - p.y;
+    const double d = ex * ex + ey * ey;
+    if (d < best) {
+      best = d;
+      edge = i;
+    }
+  }
+  return best;
 }
 
 /// The smaller angle between two road directions taken as axes, radians, [0, pi/2].
@@ -188,6 +210,15 @@ Status Map::Impl::region_geometry(const PositionUncertainty& uncertainty, const 
   const detail::RegionSegment& own = region_segments[out.fix_index];
   const double fix_direction =
       detail::polyline_direction_rad(own.points, detail::project_onto_polyline(own.points, fix));
+  // The road's direction at a sample is its nearest edge's: computed once per edge.
+  for (std::size_t i = 0; i < count; ++i) {
+    region_segments[i].edge_spread_rad.assign(region_segments[i].points.size() - 1, -1.0);
+  }
+  by_box_distance.clear();
+  for (std::size_t i = 0; i < count; ++i) {
+    by_box_distance.emplace_back(std::sqrt(box_distance_sq_m2(region_segments[i], fix)), i);
+  }
+  std::sort(by_box_distance.begin(), by_box_distance.end());
   const UnitDirections& unit = unit_directions();
   std::size_t previous = out.fix_index;
   out.heading_spread_rad = 0.0;
@@ -200,29 +231,36 @@ Status Map::Impl::region_geometry(const PositionUncertainty& uncertainty, const 
       const double z1 = radius * unit.cos_values[half_steps];
       const double z2 = radius * unit.sin_values[half_steps];
       const schema::PlanePoint place{fix.x + cov.l11 * z1, fix.y + cov.l21 * z1 + cov.l22 * z2};
-      // Nearest segment: start from the previous sample's (neighbours usually share it) and
-      // skip every segment whose box is already farther.
+      // Nearest segment: start from the previous sample's (neighbours usually share it), go
+      // through the others by their boxes' distance from the fix, and stop where even that
+      // less the sample's distance from the fix is farther than the best so far.
+      const double from_fix_m =
+          std::sqrt((place.x - fix.x) * (place.x - fix.x) + (place.y - fix.y) * (place.y - fix.y));
       std::size_t best = previous;
-      detail::PolylineProjection best_at =
-          detail::project_onto_polyline(region_segments[best].points, place);
-      for (std::size_t i = 0; i < count; ++i) {
-        if (i == previous || box_distance_m(region_segments[i], place) >= best_at.distance_m) {
-          continue;
-        }
-        const detail::PolylineProjection at =
-            detail::project_onto_polyline(region_segments[i].points, place);
-        if (at.distance_m < best_at.distance_m) {
+      std::size_t best_edge = 0;
+      double best_sq = polyline_distance_sq_m2(region_segments[best].points, place, best_edge);
+      for (const auto& [box_from_fix_m, i] : by_box_distance) {
+        const double bound_m = box_from_fix_m - from_fix_m;
+        if (bound_m > 0.0 && bound_m * bound_m >= best_sq) break;
+        if (i == previous || box_distance_sq_m2(region_segments[i], place) >= best_sq) continue;
+        std::size_t edge = 0;
+        const double d = polyline_distance_sq_m2(region_segments[i].points, place, edge);
+        if (d < best_sq) {
           best = i;
-          best_at = at;
+          best_sq = d;
+          best_edge = edge;
         }
       }
-      ++region_segments[best].sample_count;
+      detail::RegionSegment& nearest = region_segments[best];
+      ++nearest.sample_count;
       ++out.sample_count;
       previous = best;
-      const double direction =
-          detail::polyline_direction_rad(region_segments[best].points, best_at);
-      out.heading_spread_rad =
-          std::max(out.heading_spread_rad, axial_difference_rad(direction, fix_direction));
+      double& spread = nearest.edge_spread_rad[best_edge];
+      if (spread < 0.0) {
+        const schema::PlanePoint a = nearest.points[best_edge], b = nearest.points[best_edge + 1];
+        spread = axial_difference_rad(geo::grid_yaw_rad(b.x - a.x, b.y - a.y), fix_direction);
+      }
+      out.heading_spread_rad = std::max(out.heading_spread_rad, spread);
     }
   }
   return {};

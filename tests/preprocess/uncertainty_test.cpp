@@ -302,40 +302,65 @@ TEST_F(TJunction, SouthOfMainStreetNoSideRoadIsNear) {
   }
 }
 
-// A bend: a residential road east along 50.0 N for about 300 m, turning sharply north at node 2
-// (14.4042 E) for another 300 m. The build marks the segments at the corner SHARP_BEND.
+// A bend: a residential road east along 50.0 N for 300 m, then a quarter circle of radius
+// 15 m (a vertex every 15 degrees) turning north, then 300 m north. Local metres x east, y north
+// around node 1, converted with 111 229 m a degree of latitude and 71 555 m a degree of longitude
+// at 50 N (the test measures in UTM anyway). The build cuts it into 9.9 m segments and marks the
+// five around the arc SHARP_BEND with the highest curvature cost: score 10 + context 10 = 20,
+// one point below the others' 21 or more, so with the threshold at 21 (a per-call override)
+// exactly those five are unsuitable, the first of them beginning on the straight leg.
+std::string bend_osm() {
+  std::string nodes;
+  std::string refs;
+  const auto add = [&](long id, double x_m, double y_m) {
+    nodes += rt::osm_node(id, 50.0 + y_m / 111229.0, 14.40 + x_m / 71555.0);
+    refs += (refs.empty() ? "" : " ") + std::to_string(id);
+  };
+  add(1, 0.0, 0.0);
+  for (int step = 0; step <= 6; ++step) {
+    const double angle = step * M_PI / 12.0;
+    add(2 + step, 300.0 + 15.0 * std::sin(angle), 15.0 - 15.0 * std::cos(angle));
+  }
+  add(9, 315.0, 315.0);
+  return nodes + rt::osm_way(10, refs, "highway=residential;name=Bend Street");
+}
+
 TEST(Bend, ARegionReachingTheOneUnsuitableSegmentMakesThePositionUncertain) {
   rt::TempDir dir;
-  Map map = build(dir, rt::osm_node(1, 50.0, 14.40) + rt::osm_node(2, 50.0, 14.4042) +
-                           rt::osm_node(3, 50.0027, 14.4042) +
-                           rt::osm_way(10, "1 2 3", "highway=residential;name=Bend Street"));
-  // Walk west along the first leg, 3 m south of it (the bend's outside), from the corner to the
+  Map map = build(dir, bend_osm());
+  const auto at = [&](double x_m, double y_m) {
+    return utm_of(map, 50.0, 14.40 + 300.0 / 71555.0, x_m - 300.0, y_m);
+  };
+  // Walk west along the first leg, 3 m south of it (the bend's outside), from the arc to the
   // first suitable place: just beyond it the unsuitable segment begins.
+  roadcross::AssessOptions options;
+  options.threshold = 21.0;
+  ASSERT_FALSE(map.assess(at(300.0, -3.0), options)->suitable) << "the arc is not unsuitable";
   double back_m = 0.0;
   for (; back_m < 200.0; back_m += 0.5) {
-    const auto a = map.assess(utm_of(map, 50.0, 14.4042, -back_m, -3.0));
+    const auto a = map.assess(at(300.0 - back_m, -3.0), options);
     ASSERT_TRUE(a.ok()) << a.status.message;
     if (a->suitable) break;
   }
   ASSERT_LT(back_m, 200.0) << "no suitable place on the first leg";
-  const Position fix = utm_of(map, 50.0, 14.4042, -back_m - 0.5, -3.0);
-  const auto exact = map.assess(fix);
+  const Position fix = at(300.0 - back_m - 0.5, -3.0);
+  const auto exact = map.assess(fix, options);
   ASSERT_TRUE(exact->suitable);
   // Sigma 0.1 m: the region (0.24 m) stays on the suitable segment.
-  const auto tight = map.assess(fix.with_sigma(0.1));
+  const auto tight = map.assess(fix.with_sigma(0.1), options);
   ASSERT_TRUE(tight.ok());
   EXPECT_TRUE(tight->suitable);
   EXPECT_DOUBLE_EQ(tight->region->suitable_share, 1.0);
-  // Sigma 1 m: the fix is 1 m (one sigma) from the unsuitable segment's start (the places
-  // nearer to it lie beyond the line across the road at its end vertex).
-  const auto loose = map.assess(fix.with_sigma(1.0));
+  // Sigma 1 m: the fix is 0.5 to 1 m (sigma) before the unsuitable segment's start (the places
+  // nearer to it lie beyond the line across the road at its first vertex).
+  const auto loose = map.assess(fix.with_sigma(1.0), options);
   ASSERT_TRUE(loose.ok());
   EXPECT_FALSE(loose->suitable);
   EXPECT_TRUE(has(*loose, "POSITION_UNCERTAIN"));
   EXPECT_FALSE(has(*loose, "AMBIGUOUS_ROAD"));
   int unsuitable = 0;
   for (const auto id : loose->region->segment_ids) {
-    if (!map.assess_segment(id)->suitable) ++unsuitable;
+    if (!map.assess_segment(id, options)->suitable) ++unsuitable;
   }
   EXPECT_EQ(unsuitable, 1);
   // The first unsuitable place was found within 0.5 m, so the line across the road lies
