@@ -170,8 +170,42 @@ class RoadHeading:
         """the query is on the centreline: the side is unknown and the right-hand normal of the
         way direction is returned"""
     @property
+    def heading_spread_rad(self) -> Optional[float]:
+        """with an uncertain position: the largest difference between the road's direction at
+        the fix and anywhere in its region (as axes), radians, [0, pi/2]; else None"""
+    @property
     def distance_m(self) -> float:
         """distance to the centreline, metres"""
+    def __repr__(self) -> str: ...
+
+class UncertaintyRegion:
+    """The region an uncertain position may be in and the answer over it (docs/runtime.md,
+    "Position uncertainty")."""
+
+    @property
+    def region_probability(self) -> float:
+        """the Gaussian mass the region holds"""
+    @property
+    def semi_major_m(self) -> float:
+        """metres"""
+    @property
+    def semi_minor_m(self) -> float:
+        """metres"""
+    @property
+    def major_axis_yaw_rad(self) -> float:
+        """ENU grid yaw of the major axis, radians, (-pi/2, pi/2]"""
+    @property
+    def segment_ids(self) -> list[int]:
+        """segments nearest somewhere in the region or crossing it, the fix's first"""
+    @property
+    def same_road(self) -> bool:
+        """all on the fix's road (same OSM way or name)"""
+    @property
+    def suitable_share(self) -> float:
+        """share of the region's probability on suitable places, [0, 1]"""
+    @property
+    def heading_spread_rad(self) -> float:
+        """largest difference of the road's direction over the region, radians"""
     def __repr__(self) -> str: ...
 
 class Assessment:
@@ -275,6 +309,9 @@ class Assessment:
     def pavement_far_side(self) -> Optional[bool]:
         """pavement on the far side: True, False (NO_PAVEMENT_FAR_SIDE) or None"""
     @property
+    def region(self) -> Optional[UncertaintyRegion]:
+        """with an uncertain position: the UncertaintyRegion; else None"""
+    @property
     def override_note(self) -> str:
         """the operator's note when an override applies, else ''"""
     @property
@@ -325,6 +362,10 @@ class Candidate:
     @property
     def reasons(self) -> list[str]:
         """reason codes at that place, as in Assessment.reasons"""
+    @property
+    def suitable_share(self) -> Optional[float]:
+        """with an uncertain position: the share of the region around the place on suitable
+        places (suitable then holds over that region); else None"""
     def __repr__(self) -> str: ...
 
 class BetterPlaces:
@@ -597,6 +638,9 @@ class Map:
         lon: Optional[float] = None,
         easting: Optional[float] = None,
         northing: Optional[float] = None,
+        sigma_m: Optional[float] = None,
+        covariance_enu_m2: Optional[Sequence[Sequence[float]]] = None,
+        region_probability: float = 0.95,
         valid_distance_m: Optional[float] = None,
         threshold: Optional[float] = None,
         max_distance_m: float = 1000.0,
@@ -605,6 +649,11 @@ class Map:
         """Is this a suitable place to cross (Assessment).
         Position (keyword-only): lat, lon: WGS84 latitude and longitude, degrees; or easting,
         northing: UTM metres in the map's zone (Map.info.utm_zone).
+        Uncertainty (keyword-only, optional): sigma_m: the position's standard deviation,
+        metres, > 0; or covariance_enu_m2: [[ee, en], [en, nn]] in true ENU, m^2 (e.g.
+        NavSatFix.position_covariance's first 2x2 block); region_probability: the share of the
+        Gaussian the region holds, (0, 1). The answer then holds over the whole region
+        (docs/runtime.md, "Position uncertainty").
         valid_distance_m: valid within this distance of a centreline, metres (None: the map's,
         10 m by default); threshold: suitable when score + context_score >= this (None: the
         map's); max_distance_m: how far to look for a road, metres, > 0; max_kerb_height_m: the
@@ -627,6 +676,9 @@ class Map:
         lon: Optional[float] = None,
         easting: Optional[float] = None,
         northing: Optional[float] = None,
+        sigma_m: Optional[float] = None,
+        covariance_enu_m2: Optional[Sequence[Sequence[float]]] = None,
+        region_probability: float = 0.95,
         search_radius_m: float = 100.0,
         max_candidates: int = 5,
         valid_distance_m: Optional[float] = None,
@@ -637,6 +689,11 @@ class Map:
         (BetterPlaces).
         Position (keyword-only): lat, lon: WGS84 latitude and longitude, degrees; or easting,
         northing: UTM metres in the map's zone (Map.info.utm_zone).
+        Uncertainty (keyword-only, optional): sigma_m: the position's standard deviation,
+        metres, > 0; or covariance_enu_m2: [[ee, en], [en, nn]] in true ENU, m^2 (e.g.
+        NavSatFix.position_covariance's first 2x2 block); region_probability: the share of the
+        Gaussian the region holds, (0, 1). The answer then holds over the whole region
+        (docs/runtime.md, "Position uncertainty").
         search_radius_m: walking distance, metres, > 0; max_candidates: at most this many;
         thresholds as in assess."""
     def road_heading(
@@ -646,11 +703,19 @@ class Map:
         lon: Optional[float] = None,
         easting: Optional[float] = None,
         northing: Optional[float] = None,
+        sigma_m: Optional[float] = None,
+        covariance_enu_m2: Optional[Sequence[Sequence[float]]] = None,
+        region_probability: float = 0.95,
         max_distance_m: float = 1000.0,
     ) -> RoadHeading:
         """The road's direction and the crossing heading (RoadHeading; ENU grid yaws, radians).
         Position (keyword-only): lat, lon: WGS84 latitude and longitude, degrees; or easting,
         northing: UTM metres in the map's zone (Map.info.utm_zone).
+        Uncertainty (keyword-only, optional): sigma_m: the position's standard deviation,
+        metres, > 0; or covariance_enu_m2: [[ee, en], [en, nn]] in true ENU, m^2 (e.g.
+        NavSatFix.position_covariance's first 2x2 block); region_probability: the share of the
+        Gaussian the region holds, (0, 1). The answer then holds over the whole region
+        (docs/runtime.md, "Position uncertainty").
         max_distance_m: search radius, metres, > 0."""
     def plan_crossing(
         self,
@@ -751,6 +816,7 @@ class MapSet:
         valid_distance_m: Optional[float] = None,
         threshold: Optional[float] = None,
         max_distance_m: float = 1000.0,
+        max_kerb_height_m: Optional[float] = None,
     ) -> tuple[Assessment, MapSource]:
         """Map.assess over the set: (Assessment, MapSource).
         Position (keyword-only): lat, lon: WGS84 latitude and longitude, degrees; or easting,
@@ -770,6 +836,7 @@ class MapSet:
         max_candidates: int = 5,
         valid_distance_m: Optional[float] = None,
         threshold: Optional[float] = None,
+        max_kerb_height_m: Optional[float] = None,
     ) -> tuple[BetterPlaces, MapSource]:
         """Map.better_place over the set: (BetterPlaces, MapSource).
         Position (keyword-only): lat, lon: WGS84 latitude and longitude, degrees; or easting,

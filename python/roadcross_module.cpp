@@ -181,38 +181,53 @@ Position zoned_position_from(std::optional<double> lat, std::optional<double> lo
   return Position::utm(position.first, position.second, *zone);
 }
 
-/// A MapSet that can be closed, like PyMap.
-class PyMapSet {
- public:
-  explicit PyMapSet(const std::vector<std::filesystem::path>& paths)
-      : set_(value_or_raise(MapSet::open(strings_of(paths)))) {}
-  MapSet& get() {
-    if (!set_) throw py::value_error("this roadcross.MapSet is closed");
-    return *set_;
-  }
-  void close() { set_.reset(); }
-  bool closed() const { return !set_.has_value(); }
+using EnuCovariance = std::vector<std::vector<double>>;
 
- private:
-  static std::vector<std::string> strings_of(const std::vector<std::filesystem::path>& paths) {
-    std::vector<std::string> out;
-    for (const auto& path : paths) out.push_back(path.string());
-    return out;
+/// The position with its uncertainty: sigma_m (circular, metres) or covariance_enu_m2 (2x2 in
+/// true ENU, m^2, as a GNSS receiver reports it), not both.
+Position uncertain_position_from(Position fix, std::optional<double> sigma_m,
+                                 const std::optional<EnuCovariance>& covariance_enu_m2,
+                                 double region_probability) {
+  if (sigma_m && covariance_enu_m2) {
+    throw py::type_error("give sigma_m= or covariance_enu_m2=, not both");
   }
-  std::optional<MapSet> set_;
-};
-
-/// (answer, MapSource) of a set's answer, or the error raised.
-template <typename T>
-std::pair<T, MapSource> answer_and_source(Result<FromMap<T>>&& result) {
-  FromMap<T> answer = value_or_raise(std::move(result));
-  return {std::move(answer.answer), std::move(answer.map)};
+  if (sigma_m) return fix.with_sigma(*sigma_m, region_probability);
+  if (covariance_enu_m2) {
+    const EnuCovariance& c = *covariance_enu_m2;
+    if (c.size() != 2 || c[0].size() != 2 || c[1].size() != 2) {
+      throw py::value_error("covariance_enu_m2 must be 2x2: [[ee, en], [en, nn]] (m^2)");
+    }
+    if (!(c[0][1] == c[1][0])) {
+      throw py::value_error("covariance_enu_m2 must be symmetric: [[ee, en], [en, nn]]");
+    }
+    return fix.with_uncertainty(
+        PositionUncertainty::enu(c[0][0], c[0][1], c[1][1], region_probability));
+  }
+  return fix;
 }
 
 // The four position keywords, first after the keyword-only marker of every positional query.
 #define ROADCROSS_POSITION_ARGS                                            \
   py::kw_only(), py::arg("lat") = py::none(), py::arg("lon") = py::none(), \
                  py::arg("easting") = py::none(), py::arg("northing") = py::none()
+// The position keywords with its uncertainty (assess, better_place, road_heading).
+#define ROADCROSS_UNCERTAIN_POSITION_ARGS                                         \
+  ROADCROSS_POSITION_ARGS,                                                        \
+      py::arg("sigma_m") = py::none(), py::arg("covariance_enu_m2") = py::none(), \
+      py::arg("region_probability") = PositionUncertainty{}.region_probability
+#define ROADCROSS_UNCERTAIN_POSITION_PARAMS                                            \
+  std::optional<double> lat, std::optional<double> lon, std::optional<double> easting, \
+      std::optional<double> northing, std::optional<double> sigma_m,                   \
+      std::optional<EnuCovariance> covariance_enu_m2, double region_probability
+#define ROADCROSS_UNCERTAIN_POSITION                                                              \
+  uncertain_position_from(position_from(lat, lon, easting, northing), sigma_m, covariance_enu_m2, \
+                          region_probability)
+#define ROADCROSS_UNCERTAINTY_DOC                                                           \
+  "Uncertainty (keyword-only, optional): sigma_m: the position's standard deviation, "      \
+  "metres, > 0; or covariance_enu_m2: [[ee, en], [en, nn]] in true ENU, m^2 (e.g. "         \
+  "NavSatFix.position_covariance's first 2x2 block); region_probability: the share of the " \
+  "Gaussian the region holds, (0, 1). The answer then holds over the whole region "         \
+  "(docs/runtime.md, \"Position uncertainty\").\n"
 #define ROADCROSS_POSITION_DOC                                                             \
   "Position (keyword-only): lat, lon: WGS84 latitude and longitude, degrees; or easting, " \
   "northing: UTM metres in the map's zone (Map.info.utm_zone).\n"
@@ -291,6 +306,76 @@ class PyMap {
 
   std::mutex mutex_;
   std::optional<Map> map_;
+};
+
+/// (answer, MapSource) of a set's answer, or the error raised.
+template <typename T>
+std::pair<T, MapSource> answer_and_source(Result<FromMap<T>>&& result) {
+  FromMap<T> answer = value_or_raise(std::move(result));
+  return {std::move(answer.answer), std::move(answer.map)};
+}
+
+/// A MapSet that can be closed before it is garbage-collected; queries run without the GIL under
+/// a mutex, as PyMap's.
+class PyMapSet {
+ public:
+  explicit PyMapSet(const std::vector<std::filesystem::path>& paths)
+      : set_(open_without_gil(strings_of(paths))) {}
+
+  /// f(MapSet&) -> Result<FromMap<T>>, run without the GIL and under the mutex; (answer,
+  /// MapSource), or the Status raised. f must not touch Python objects.
+  template <typename F>
+  auto query(F&& f) {
+    using ResultType = decltype(f(std::declval<MapSet&>()));
+    std::optional<ResultType> result;
+    {
+      py::gil_scoped_release release;
+      const std::lock_guard<std::mutex> lock(mutex_);
+      if (set_) result.emplace(f(*set_));
+    }
+    if (!result) throw py::value_error("this roadcross.MapSet is closed");
+    return answer_and_source(std::move(*result));
+  }
+
+  /// Copies of every map's description, in the set's order.
+  std::vector<MapInfo> infos() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (!set_) throw py::value_error("this roadcross.MapSet is closed");
+    std::vector<MapInfo> out;
+    for (std::size_t i = 0; i < set_->size(); ++i) out.push_back(set_->map(i).info());
+    return out;
+  }
+  std::size_t size() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (!set_) throw py::value_error("this roadcross.MapSet is closed");
+    return set_->size();
+  }
+  void close() {
+    py::gil_scoped_release release;  // a query in another thread may hold the mutex
+    const std::lock_guard<std::mutex> lock(mutex_);
+    set_.reset();
+  }
+  bool closed() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return !set_.has_value();
+  }
+
+ private:
+  static std::vector<std::string> strings_of(const std::vector<std::filesystem::path>& paths) {
+    std::vector<std::string> out;
+    for (const auto& path : paths) out.push_back(path.string());
+    return out;
+  }
+  static std::optional<MapSet> open_without_gil(const std::vector<std::string>& paths) {
+    Result<MapSet> opened = [&] {
+      py::gil_scoped_release release;
+      return MapSet::open(paths);
+    }();
+    return value_or_raise(std::move(opened));
+  }
+
+  std::mutex mutex_;
+  std::optional<MapSet> set_;
 };
 
 AssessOptions assess_options(std::optional<double> valid_distance_m,
@@ -410,11 +495,37 @@ void bind_values(py::module_& m) {
       .def_readonly("on_centreline", &RoadHeading::on_centreline,
                     "the query is on the centreline: the side is unknown and the right-hand "
                     "normal of the way direction is returned")
+      .def_readonly("heading_spread_rad", &RoadHeading::heading_spread_rad,
+                    "with an uncertain position: the largest difference between the road's "
+                    "direction at the fix and anywhere in its region (as axes), radians, "
+                    "[0, pi/2]; else None")
       .def_property_readonly(
           "distance_m", [](const RoadHeading& h) { return h.road.distance_m; },
           "distance to the centreline, metres");
   add_repr(heading, "RoadHeading",
            {"road_heading_rad", "crossing_heading_rad", "distance_m", "on_centreline"});
+
+  py::class_<UncertaintyRegion> region(
+      m, "UncertaintyRegion",
+      "The region an uncertain position may be in and the answer over it (docs/runtime.md, "
+      "\"Position uncertainty\").");
+  region
+      .def_readonly("region_probability", &UncertaintyRegion::region_probability,
+                    "the Gaussian mass the region holds")
+      .def_readonly("semi_major_m", &UncertaintyRegion::semi_major_m, "metres")
+      .def_readonly("semi_minor_m", &UncertaintyRegion::semi_minor_m, "metres")
+      .def_readonly("major_axis_yaw_rad", &UncertaintyRegion::major_axis_yaw_rad,
+                    "ENU grid yaw of the major axis, radians, (-pi/2, pi/2]")
+      .def_readonly("segment_ids", &UncertaintyRegion::segment_ids,
+                    "segments nearest somewhere in the region or crossing it, the fix's first")
+      .def_readonly("same_road", &UncertaintyRegion::same_road,
+                    "all on the fix's road (same OSM way or name)")
+      .def_readonly("suitable_share", &UncertaintyRegion::suitable_share,
+                    "share of the region's probability on suitable places, [0, 1]")
+      .def_readonly("heading_spread_rad", &UncertaintyRegion::heading_spread_rad,
+                    "largest difference of the road's direction over the region, radians");
+  add_repr(region, "UncertaintyRegion",
+           {"semi_major_m", "semi_minor_m", "segment_ids", "same_road", "suitable_share"});
 
   py::class_<Assessment> assessment(
       m, "Assessment",
@@ -471,6 +582,8 @@ void bind_values(py::module_& m) {
                     "pavement on the far side: True, False (NO_PAVEMENT_FAR_SIDE) or None")
       .def_readonly("override_note", &Assessment::override_note,
                     "the operator's note when an override applies, else ''")
+      .def_readonly("region", &Assessment::region,
+                    "with an uncertain position: the UncertaintyRegion; else None")
       .def_readonly("reasons", &Assessment::reasons,
                     "reason codes (NEAR_JUNCTION, SHARP_BEND, BUSY_ROAD, TOO_FAR_FROM_ROAD, "
                     "LOW_SCORE, ...); roadcross.describe_reason(code) gives a sentence")
@@ -504,7 +617,10 @@ void bind_values(py::module_& m) {
       .def_readonly("crossing_heading_rad", &Candidate::crossing_heading_rad,
                     "ENU grid yaw across the road from that side, radians")
       .def_readonly("reasons", &Candidate::reasons,
-                    "reason codes at that place, as in Assessment.reasons");
+                    "reason codes at that place, as in Assessment.reasons")
+      .def_readonly("suitable_share", &Candidate::suitable_share,
+                    "with an uncertain position: the share of the region around the place on "
+                    "suitable places (suitable then holds over that region); else None");
   add_repr(candidate, "Candidate",
            {"point", "walking_distance_m", "suitable", "score", "designated_crossing"});
 
@@ -729,18 +845,19 @@ void bind_map(py::module_& m) {
           "max_distance_m: search radius, metres, > 0; NoRoadError when no road is that near.")
       .def(
           "assess",
-          [](PyMap& self, std::optional<double> lat, std::optional<double> lon,
-             std::optional<double> easting, std::optional<double> northing,
+          [](PyMap& self, ROADCROSS_UNCERTAIN_POSITION_PARAMS,
              std::optional<double> valid_distance_m, std::optional<double> threshold,
              double max_distance_m, std::optional<double> max_kerb_height_m) {
-            const Position position = position_from(lat, lon, easting, northing);
+            const Position position = ROADCROSS_UNCERTAIN_POSITION;
             const AssessOptions options =
                 assess_options(valid_distance_m, threshold, max_distance_m, max_kerb_height_m);
             return self.query([&](Map& map) { return map.assess(position, options); });
           },
-          ROADCROSS_POSITION_ARGS, "valid_distance_m"_a = py::none(), "threshold"_a = py::none(),
-          "max_distance_m"_a = AssessOptions{}.max_distance_m, "max_kerb_height_m"_a = py::none(),
+          ROADCROSS_UNCERTAIN_POSITION_ARGS, "valid_distance_m"_a = py::none(),
+          "threshold"_a = py::none(), "max_distance_m"_a = AssessOptions{}.max_distance_m,
+          "max_kerb_height_m"_a = py::none(),
           "Is this a suitable place to cross (Assessment).\n" ROADCROSS_POSITION_DOC
+              ROADCROSS_UNCERTAINTY_DOC
           "valid_distance_m: valid within this distance of a centreline, metres (None: the "
           "map's, 10 m by default); threshold: suitable when score + context_score >= this "
           "(None: the map's); max_distance_m: how far to look for a road, metres, > 0; "
@@ -760,35 +877,35 @@ void bind_map(py::module_& m) {
           "is no such segment. Thresholds as in assess.")
       .def(
           "better_place",
-          [](PyMap& self, std::optional<double> lat, std::optional<double> lon,
-             std::optional<double> easting, std::optional<double> northing, double search_radius_m,
+          [](PyMap& self, ROADCROSS_UNCERTAIN_POSITION_PARAMS, double search_radius_m,
              std::size_t max_candidates, std::optional<double> valid_distance_m,
              std::optional<double> threshold, std::optional<double> max_kerb_height_m) {
             BetterPlaceOptions options;
             options.search_radius_m = search_radius_m;
             options.max_candidates = max_candidates;
             options.assess = assess_options(valid_distance_m, threshold, 1000.0, max_kerb_height_m);
-            const Position position = position_from(lat, lon, easting, northing);
+            const Position position = ROADCROSS_UNCERTAIN_POSITION;
             return self.query([&](Map& map) { return map.better_place(position, options); });
           },
-          ROADCROSS_POSITION_ARGS, "search_radius_m"_a = BetterPlaceOptions{}.search_radius_m,
+          ROADCROSS_UNCERTAIN_POSITION_ARGS,
+          "search_radius_m"_a = BetterPlaceOptions{}.search_radius_m,
           "max_candidates"_a = BetterPlaceOptions{}.max_candidates,
           "valid_distance_m"_a = py::none(), "threshold"_a = py::none(),
           "max_kerb_height_m"_a = py::none(),
           "Better places to cross nearby, reached by walking along the road on the robot's side "
-          "(BetterPlaces).\n" ROADCROSS_POSITION_DOC
+          "(BetterPlaces).\n" ROADCROSS_POSITION_DOC ROADCROSS_UNCERTAINTY_DOC
           "search_radius_m: walking distance, metres, > 0; max_candidates: at most this many; "
           "thresholds as in assess.")
       .def(
           "road_heading",
-          [](PyMap& self, std::optional<double> lat, std::optional<double> lon,
-             std::optional<double> easting, std::optional<double> northing, double max_distance_m) {
-            const Position position = position_from(lat, lon, easting, northing);
+          [](PyMap& self, ROADCROSS_UNCERTAIN_POSITION_PARAMS, double max_distance_m) {
+            const Position position = ROADCROSS_UNCERTAIN_POSITION;
             return self.query([&](Map& map) { return map.road_heading(position, max_distance_m); });
           },
-          ROADCROSS_POSITION_ARGS, "max_distance_m"_a = 1000.0,
+          ROADCROSS_UNCERTAIN_POSITION_ARGS, "max_distance_m"_a = 1000.0,
           "The road's direction and the crossing heading (RoadHeading; ENU grid yaws, "
-          "radians).\n" ROADCROSS_POSITION_DOC "max_distance_m: search radius, metres, > 0.")
+          "radians).\n" ROADCROSS_POSITION_DOC ROADCROSS_UNCERTAINTY_DOC
+          "max_distance_m: search radius, metres, > 0.")
       .def(
           "plan_crossing",
           [](PyMap& self, std::optional<double> lat, std::optional<double> lon,
@@ -855,16 +972,10 @@ void bind_map_set(py::module_& m) {
                        "One MapSet per thread. Usable as a context manager (closes on exit).")
       .def(py::init<const std::vector<std::filesystem::path>&>(), "paths"_a,
            "paths: map files and directories of maps (str or os.PathLike each)")
-      .def("__len__", [](PyMapSet& self) { return self.get().size(); })
+      .def("__len__", [](PyMapSet& self) { return self.size(); })
       .def_property_readonly(
           "maps",
-          [](PyMapSet& self) {
-            std::vector<MapInfo> out;
-            for (std::size_t i = 0; i < self.get().size(); ++i) {
-              out.push_back(self.get().map(i).info());
-            }
-            return out;
-          },
+          [](PyMapSet& self) { return self.infos(); },
           "MapInfo of every map, in the set's order (a directory's maps by name)")
       .def_property_readonly("closed", &PyMapSet::closed,
                              "True after close() or the end of the with block")
@@ -880,8 +991,8 @@ void bind_map_set(py::module_& m) {
           [](PyMapSet& self, std::optional<double> lat, std::optional<double> lon,
              std::optional<double> easting, std::optional<double> northing,
              std::optional<std::string> utm_zone, double max_distance_m) {
-            return answer_and_source(self.get().nearest(
-                zoned_position_from(lat, lon, easting, northing, utm_zone), max_distance_m));
+            const Position position = zoned_position_from(lat, lon, easting, northing, utm_zone);
+            return self.query([&](MapSet& set) { return set.nearest(position, max_distance_m); });
           },
           ROADCROSS_SET_POSITION_ARGS, "max_distance_m"_a = 1000.0,
           "Map.nearest over the set: (NearestRoad, MapSource).\n" ROADCROSS_SET_POSITION_DOC
@@ -892,13 +1003,16 @@ void bind_map_set(py::module_& m) {
           [](PyMapSet& self, std::optional<double> lat, std::optional<double> lon,
              std::optional<double> easting, std::optional<double> northing,
              std::optional<std::string> utm_zone, std::optional<double> valid_distance_m,
-             std::optional<double> threshold, double max_distance_m) {
-            return answer_and_source(
-                self.get().assess(zoned_position_from(lat, lon, easting, northing, utm_zone),
-                                  assess_options(valid_distance_m, threshold, max_distance_m)));
+             std::optional<double> threshold, double max_distance_m,
+             std::optional<double> max_kerb_height_m) {
+            const Position position = zoned_position_from(lat, lon, easting, northing, utm_zone);
+            const AssessOptions options =
+                assess_options(valid_distance_m, threshold, max_distance_m, max_kerb_height_m);
+            return self.query([&](MapSet& set) { return set.assess(position, options); });
           },
           ROADCROSS_SET_POSITION_ARGS, "valid_distance_m"_a = py::none(),
           "threshold"_a = py::none(), "max_distance_m"_a = AssessOptions{}.max_distance_m,
+          "max_kerb_height_m"_a = py::none(),
           "Map.assess over the set: (Assessment, MapSource).\n" ROADCROSS_SET_POSITION_DOC
           "Thresholds and max_distance_m as in Map.assess.")
       .def(
@@ -907,17 +1021,18 @@ void bind_map_set(py::module_& m) {
              std::optional<double> easting, std::optional<double> northing,
              std::optional<std::string> utm_zone, double search_radius_m,
              std::size_t max_candidates, std::optional<double> valid_distance_m,
-             std::optional<double> threshold) {
+             std::optional<double> threshold, std::optional<double> max_kerb_height_m) {
             BetterPlaceOptions options;
             options.search_radius_m = search_radius_m;
             options.max_candidates = max_candidates;
-            options.assess = assess_options(valid_distance_m, threshold, 1000.0);
-            return answer_and_source(self.get().better_place(
-                zoned_position_from(lat, lon, easting, northing, utm_zone), options));
+            options.assess = assess_options(valid_distance_m, threshold, 1000.0, max_kerb_height_m);
+            const Position position = zoned_position_from(lat, lon, easting, northing, utm_zone);
+            return self.query([&](MapSet& set) { return set.better_place(position, options); });
           },
           ROADCROSS_SET_POSITION_ARGS, "search_radius_m"_a = BetterPlaceOptions{}.search_radius_m,
           "max_candidates"_a = BetterPlaceOptions{}.max_candidates,
           "valid_distance_m"_a = py::none(), "threshold"_a = py::none(),
+          "max_kerb_height_m"_a = py::none(),
           "Map.better_place over the set: (BetterPlaces, MapSource).\n" ROADCROSS_SET_POSITION_DOC
           "Options as in Map.better_place.")
       .def(
@@ -925,15 +1040,16 @@ void bind_map_set(py::module_& m) {
           [](PyMapSet& self, std::optional<double> lat, std::optional<double> lon,
              std::optional<double> easting, std::optional<double> northing,
              std::optional<std::string> utm_zone, double max_distance_m) {
-            return answer_and_source(self.get().road_heading(
-                zoned_position_from(lat, lon, easting, northing, utm_zone), max_distance_m));
+            const Position position = zoned_position_from(lat, lon, easting, northing, utm_zone);
+            return self.query(
+                [&](MapSet& set) { return set.road_heading(position, max_distance_m); });
           },
           ROADCROSS_SET_POSITION_ARGS, "max_distance_m"_a = 1000.0,
           "Map.road_heading over the set: (RoadHeading, MapSource).\n" ROADCROSS_SET_POSITION_DOC
           "max_distance_m: search radius, metres, > 0.")
       .def("__repr__", [](PyMapSet& self) {
         if (self.closed()) return std::string("roadcross.MapSet(<closed>)");
-        return "roadcross.MapSet(<" + std::to_string(self.get().size()) + " maps>)";
+        return "roadcross.MapSet(<" + std::to_string(self.size()) + " maps>)";
       });
 }
 

@@ -93,6 +93,15 @@ int print_assessment(const Assessment& a, const MapSource* source, bool json) {
         a.kerb ? a.kerb->c_str() : "unknown", number_or_dash(a.kerb_height_m, "%.2f").c_str(),
         a.max_kerb_height_m, a.crossing_island ? (*a.crossing_island ? "yes" : "no") : "unknown",
         a.pavement_far_side ? (*a.pavement_far_side ? "yes" : "no") : "unknown");
+  if (a.region) {
+    const UncertaintyRegion& r = *a.region;
+    std::printf(
+        "region      %.0f %% within %.1f x %.1f m: %zu segment%s, %s, %.0f %% on suitable "
+        "places, heading spread %.1f deg\n",
+        100.0 * r.region_probability, r.semi_major_m, r.semi_minor_m, r.segment_ids.size(),
+        r.segment_ids.size() == 1 ? "" : "s", r.same_road ? "one road" : "several roads",
+        100.0 * r.suitable_share, geo::rad_to_deg(r.heading_spread_rad));
+  }
   for (const std::string& code : a.reasons) {
     std::printf("  %-20s %s\n", code.c_str(), describe_reason(code));
   }

@@ -1,12 +1,14 @@
 // Batch mode: for scripts and for checking a list of sites before a mission. Each input line is
 // a JSON object {"op": "assess" | "better" | "heading" | "nearest", "lat": .., "lon": ..} or
 // with "easting"/"northing" (and "utm_zone": "33N", required with a set of maps); optional
-// "threshold", "valid_distance_m", "max_kerb_height_m", "radius_m". Each output line is
-// {"line": N, "ok": true, "result": {...}} or {"line": N, "ok": false, "error": "..."}; a bad
-// line never stops the batch. With a set of maps (--db repeated, or a directory) each result has
-// a "map" member naming the map that answered.
+// "threshold", "valid_distance_m", "max_kerb_height_m", "radius_m", and a position uncertainty:
+// "sigma_m" (metres) or "covariance_enu_m2" ([ee, en, nn], m^2), with "region_probability"
+// (default 0.95). Each output line is {"line": N, "ok": true, "result": {...}} or
+// {"line": N, "ok": false, "error": "..."}; a bad line never stops the batch. With a set of maps
+// (--db repeated, or a directory) each result has a "map" member naming the map that answered.
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include "commands.hpp"
 #include "json_output.hpp"
@@ -15,7 +17,8 @@
 namespace roadcross::cli {
 namespace {
 
-Position position_of(const nlohmann::json& request) {
+/// The request's position without its uncertainty.
+Position fix_of(const nlohmann::json& request) {
   if (request.contains("lat") || request.contains("lon")) {
     return Position::wgs84(request.at("lat").get<double>(), request.at("lon").get<double>());
   }
@@ -28,6 +31,24 @@ Position position_of(const nlohmann::json& request) {
     return Position::utm(easting_m, northing_m, *zone);
   }
   return Position::utm(easting_m, northing_m);
+}
+
+/// The request's position with its uncertainty (sigma_m or covariance_enu_m2), when it has one.
+Position position_of(const nlohmann::json& request) {
+  Position fix = fix_of(request);
+  const double probability = request.value("region_probability", 0.95);
+  if (request.contains("sigma_m")) {
+    fix = fix.with_sigma(request.at("sigma_m").get<double>(), probability);
+  } else if (request.contains("covariance_enu_m2")) {
+    // [east_east, east_north, north_north] in true ENU, as a GNSS receiver reports it.
+    const auto c = request.at("covariance_enu_m2").get<std::vector<double>>();
+    if (c.size() != 3) {
+      throw std::invalid_argument(
+          "covariance_enu_m2 takes 3 numbers: east_east, east_north, north_north (m^2)");
+    }
+    fix = fix.with_uncertainty(PositionUncertainty::enu(c[0], c[1], c[2], probability));
+  }
+  return fix;
 }
 
 template <typename T, typename ToJson>

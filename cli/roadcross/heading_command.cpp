@@ -33,6 +33,11 @@ int print_heading(const RoadHeading& heading, const MapSource* source, bool json
       heading.on_centreline ? ", on the centreline: side unknown" : ", from this side across");
   std::printf("frame     UTM grid; add %+.5f rad for a yaw from true east\n",
               heading.convergence_rad);
+  if (heading.heading_spread_rad) {
+    std::printf("spread    %.4f rad (%.1f deg) over the position's region
+",
+                *heading.heading_spread_rad, geo::rad_to_deg(*heading.heading_spread_rad));
+  }
   return 0;
 }
 

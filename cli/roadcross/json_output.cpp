@@ -21,6 +21,20 @@ nlohmann::ordered_json heading_json(const RoadHeading& h) {
   out["crossing_bearing_deg"] = h.crossing_bearing_deg;
   out["convergence_rad"] = h.convergence_rad;
   out["on_centreline"] = h.on_centreline;
+  if (h.heading_spread_rad) out["heading_spread_rad"] = *h.heading_spread_rad;
+  return out;
+}
+
+nlohmann::ordered_json region_json(const UncertaintyRegion& r) {
+  nlohmann::ordered_json out;
+  out["region_probability"] = r.region_probability;
+  out["semi_major_m"] = r.semi_major_m;
+  out["semi_minor_m"] = r.semi_minor_m;
+  out["major_axis_yaw_rad"] = r.major_axis_yaw_rad;
+  out["segment_ids"] = r.segment_ids;
+  out["same_road"] = r.same_road;
+  out["suitable_share"] = r.suitable_share;
+  out["heading_spread_rad"] = r.heading_spread_rad;
   return out;
 }
 
@@ -65,6 +79,7 @@ nlohmann::ordered_json assessment_json(const Assessment& a) {
   out["pavement_far_side"] = or_null(a.pavement_far_side);
   out["override_note"] = a.override_note;
   out["reasons"] = a.reasons;
+  if (a.region) out["region"] = region_json(*a.region);
   return out;
 }
 
@@ -80,6 +95,7 @@ nlohmann::ordered_json better_places_json(const BetterPlaces& places) {
                                  {"designated_crossing", c.designated_crossing},
                                  {"crossing_heading_rad", c.crossing_heading_rad},
                                  {"reasons", c.reasons}});
+    if (c.suitable_share) out["candidates"].back()["suitable_share"] = *c.suitable_share;
   }
   out["reason"] = places.reason;
   return out;

@@ -28,6 +28,7 @@ std::string json_text(const Json& value, int indent = -1) {
 
 nlohmann::ordered_json road_json(const NearestRoad& road);
 nlohmann::ordered_json heading_json(const RoadHeading& heading);
+nlohmann::ordered_json region_json(const UncertaintyRegion& region);
 nlohmann::ordered_json assessment_json(const Assessment& assessment);
 nlohmann::ordered_json better_places_json(const BetterPlaces& places);
 /// {"path": ..., "map_id": ... or null}: which map of a set answered.

@@ -1,6 +1,7 @@
 #include "position_options.hpp"
 
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -45,15 +46,41 @@ void QueryOptions::add_to(CLI::App& command) {
                                  "with --utm, or the position as --lat/--lon");
     }
   });
+  const CLI::Validator finite_positive(
+      [](const std::string& text) -> std::string {
+        double value = 0.0;
+        if (!CLI::detail::lexical_cast(text, value) || !std::isfinite(value) || !(value > 0.0))
+          return "must be a finite number > 0, got " + text;
+        return {};
+      },
+      "SIGMA > 0");
+  command
+      .add_option("--sigma", sigma_m,
+                  "the position's standard deviation, metres (> 0): answer over the region it "
+                  "may be in (docs/runtime.md, \"Position uncertainty\")")
+      ->check(finite_positive);
+  command
+      .add_option("--region-probability", region_probability,
+                  "with --sigma: the probability the region holds, in (0, 1)")
+      ->capture_default_str()
+      ->check(CLI::Validator(
+          [](const std::string& text) -> std::string {
+            double value = 0.0;
+            if (!CLI::detail::lexical_cast(text, value) || !(value > 0.0 && value < 1.0))
+              return "must be in (0, 1), got " + text;
+            return {};
+          },
+          "P in (0, 1)"));
   command.add_flag("--json", json, "print JSON instead of text");
 }
 
 Position QueryOptions::position() const {
+  Position fix = Position::wgs84(lat_deg.value_or(0.0), lon_deg.value_or(0.0));
   if (!utm.empty()) {
-    if (const auto zone = parse_utm_zone(utm_zone)) return Position::utm(utm[0], utm[1], *zone);
-    return Position::utm(utm[0], utm[1]);
+    const auto zone = parse_utm_zone(utm_zone);
+    fix = zone ? Position::utm(utm[0], utm[1], *zone) : Position::utm(utm[0], utm[1]);
   }
-  return Position::wgs84(*lat_deg, *lon_deg);
+  return sigma_m ? fix.with_sigma(*sigma_m, region_probability) : fix;
 }
 
 bool QueryOptions::uses_set() const {

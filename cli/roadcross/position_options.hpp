@@ -20,12 +20,15 @@ struct QueryOptions {
   std::optional<double> lon_deg;
   std::vector<double> utm;  ///< easting_m northing_m
   std::string utm_zone;     ///< --utm-zone, e.g. "33N"; empty: the map's zone
+  std::optional<double> sigma_m;
+  double region_probability = 0.95;
   bool json = false;
 
-  /// Adds --db, --lat, --lon, --utm, --utm-zone and --json to `command`.
+  /// Adds --db, --lat, --lon, --utm, --utm-zone, --sigma, --region-probability and --json to
+  /// `command`.
   void add_to(CLI::App& command);
   /// The position given on the command line (CLI11 already ensured exactly one form, and that
-  /// --utm-zone parses).
+  /// --utm-zone parses), with the circular uncertainty of --sigma when given.
   Position position() const;
   /// True when the query goes to a MapSet: several --db, or a directory.
   bool uses_set() const;

@@ -93,6 +93,11 @@ struct Settings {
   roadcross::HcmOptions hcm;
   roadcross::GapCrossingDefaults gap_defaults;
   std::string policy = "ours";
+  /// Position uncertainty: the fix's covariance when its type says it is known, else this
+  /// sigma (metres; 0: positions are taken as exact).
+  bool use_fix_covariance = true;
+  double sigma_m = 0.0;
+  double region_probability = 0.95;
 };
 
 /// Reads every parameter (units and ranges: config/roadcross.yaml). False after a ROS_FATAL.
@@ -127,6 +132,11 @@ bool read_settings(const ros::NodeHandle& nh, Settings& s) {
   set(s.yaw_offset_rad, param(nh, "yaw_offset_rad", 0.0, any_finite, "finite"));
   set(s.max_fix_age_s, param(nh, "max_fix_age_s", 2.0, non_negative, ">= 0 (0: no limit)"));
   set(s.max_distance_m, param(nh, "max_distance_m", 1000.0, positive, "> 0"));
+  nh.param("uncertainty/use_fix_covariance", s.use_fix_covariance, true);
+  set(s.sigma_m, param(nh, "uncertainty/sigma_m", 0.0, non_negative, ">= 0 metres (0: exact)"));
+  set(s.region_probability, param(
+                                nh, "uncertainty/region_probability", 0.95,
+                                [](double v) { return v > 0.0 && v < 1.0; }, "in (0, 1)"));
   s.assess.max_distance_m = s.max_distance_m;
   double value = 0.0;
   if (nh.getParam("assess/valid_distance_m", value)) {
@@ -227,6 +237,9 @@ class RoadcrossNode {
   struct Fix {
     double lat_deg = 0.0, lon_deg = 0.0;
     ros::Time stamp, received;
+    /// From position_covariance when its type is DIAGONAL_KNOWN or KNOWN (and ~uncertainty/
+    /// use_fix_covariance), else ~uncertainty/sigma_m, else none.
+    std::optional<roadcross::PositionUncertainty> uncertainty;
   };
   struct PoseSample {
     double x = 0.0, y = 0.0, yaw_rad = 0.0;  // yaw: true ENU after ~yaw_offset_rad
@@ -242,9 +255,11 @@ class RoadcrossNode {
                         fix.status.status);
       return;
     }
-    fix_ = Fix{fix.latitude, fix.longitude, fix.header.stamp, ros::Time::now()};
-    const roadcross::Position here = roadcross::Position::wgs84(fix.latitude, fix.longitude);
+    fix_ =
+        Fix{fix.latitude, fix.longitude, fix.header.stamp, ros::Time::now(), uncertainty_of(fix)};
+    roadcross::Position here = roadcross::Position::wgs84(fix.latitude, fix.longitude);
     use_map_for(here);
+    here.uncertainty = fix_->uncertainty;
     roadcross_ros::Assessment out;
     out.map_id = map().info().map_id;
     if (const auto a = map().assess(here, settings_.assess); a.ok()) {
@@ -288,6 +303,29 @@ class RoadcrossNode {
              info.zone.northern ? "N" : "S");
   }
 
+  /// The fix's horizontal uncertainty: NavSatFix.position_covariance is row-major ENU in m^2,
+  /// so its first 2x2 block is east/north, in true ENU (the runtime turns it into the grid).
+  std::optional<roadcross::PositionUncertainty> uncertainty_of(
+      const sensor_msgs::NavSatFix& fix) const {
+    const auto& c = fix.position_covariance;
+    const auto type = fix.position_covariance_type;
+    if (settings_.use_fix_covariance &&
+        (type == sensor_msgs::NavSatFix::COVARIANCE_TYPE_KNOWN ||
+         type == sensor_msgs::NavSatFix::COVARIANCE_TYPE_DIAGONAL_KNOWN)) {
+      const double east_north = type == sensor_msgs::NavSatFix::COVARIANCE_TYPE_KNOWN ? c[1] : 0.0;
+      return roadcross::PositionUncertainty::enu(c[0], east_north, c[4],
+                                                 settings_.region_probability);
+    }
+    return default_uncertainty();
+  }
+
+  /// ~uncertainty/sigma_m as an uncertainty, none when it is 0.
+  std::optional<roadcross::PositionUncertainty> default_uncertainty() const {
+    if (settings_.sigma_m <= 0.0) return std::nullopt;
+    return roadcross::PositionUncertainty::circular(settings_.sigma_m,
+                                                    settings_.region_probability);
+  }
+
   /// The runtime position of a request, or the reason there is none.
   std::optional<roadcross::Position> position_of(const roadcross_ros::Position& p,
                                                  std::string& error) {
@@ -296,8 +334,24 @@ class RoadcrossNode {
     return position;
   }
 
+  /// The request's position with its uncertainty, or the reason there is none.
   std::optional<roadcross::Position> requested_position(const roadcross_ros::Position& p,
                                                         std::string& error) const {
+    std::optional<roadcross::Position> position = fix_position_of(p, error);
+    if (!position) return position;
+    // A request's own sigma_m wins; else CURRENT carries the fix's uncertainty and the others
+    // ~uncertainty/sigma_m.
+    if (p.sigma_m > 0.0 || !std::isfinite(p.sigma_m)) {
+      position->uncertainty =
+          roadcross::PositionUncertainty::circular(p.sigma_m, settings_.region_probability);
+    } else if (!position->uncertainty) {
+      position->uncertainty = default_uncertainty();
+    }
+    return position;
+  }
+
+  std::optional<roadcross::Position> fix_position_of(const roadcross_ros::Position& p,
+                                                     std::string& error) const {
     switch (p.kind) {
       case roadcross_ros::Position::WGS84:
         return roadcross::Position::wgs84(p.latitude_deg, p.longitude_deg);
@@ -317,7 +371,9 @@ class RoadcrossNode {
                   " s old (~max_fix_age_s " + std::to_string(settings_.max_fix_age_s) + ")";
           return std::nullopt;
         }
-        return roadcross::Position::wgs84(fix_->lat_deg, fix_->lon_deg);
+        roadcross::Position current = roadcross::Position::wgs84(fix_->lat_deg, fix_->lon_deg);
+        current.uncertainty = fix_->uncertainty;
+        return current;
     }
     error = "position.kind " + std::to_string(p.kind) + " is not CURRENT (0), WGS84 (1) or UTM (2)";
     return std::nullopt;
@@ -382,6 +438,18 @@ class RoadcrossNode {
     out.crossing_island = tri_state(a.crossing_island);
     out.pavement_far_side = tri_state(a.pavement_far_side);
     out.override_note = a.override_note;
+    out.uncertain = a.region.has_value();
+    if (a.region) {
+      out.region_semi_major_m = a.region->semi_major_m;
+      out.region_semi_minor_m = a.region->semi_minor_m;
+      out.region_segment_ids = a.region->segment_ids;
+      out.same_road = a.region->same_road;
+      out.suitable_share = a.region->suitable_share;
+      out.heading_spread_rad = a.region->heading_spread_rad;
+    } else {
+      out.same_road = true;
+      out.suitable_share = a.suitable ? 1.0 : 0.0;
+    }
   }
 
   // --- services ---
@@ -439,6 +507,7 @@ class RoadcrossNode {
       out.crossing_yaw_rad =
           roadcross::geo::normalize_angle_rad(c.crossing_heading_rad + convergence_at(c.point));
       out.reasons = c.reasons;
+      out.suitable_share = c.suitable_share ? *c.suitable_share : kNaN;
       res.candidates.push_back(std::move(out));
     }
     res.reason = places->reason;
@@ -469,6 +538,7 @@ class RoadcrossNode {
     res.crossing_orientation.z = std::sin(res.crossing_yaw_rad / 2.0);
     res.crossing_orientation.w = std::cos(res.crossing_yaw_rad / 2.0);
     res.on_centreline = h->on_centreline;
+    res.heading_spread_rad = h->heading_spread_rad ? *h->heading_spread_rad : kNaN;
     res.success = true;
     return true;
   }

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <stdexcept>
 #include <string_view>
 
 #include "map_impl.hpp"
@@ -358,6 +359,68 @@ Status judge(sqlite::Statement& row, Assessment& a, bool limited_visibility_unsu
 
 }  // namespace
 
+Status Map::Impl::judge_region(const PositionUncertainty& uncertainty, Assessment& a) {
+  Impl& impl = *this;
+  detail::RegionGeometry geometry;
+  Status status = region_geometry(uncertainty, a.road, geometry);
+  if (!status.ok()) return status;
+  UncertaintyRegion& region = a.region.emplace();
+  region.region_probability = geometry.region_probability;
+  region.semi_major_m = geometry.semi_major_m;
+  region.semi_minor_m = geometry.semi_minor_m;
+  region.major_axis_yaw_rad = geometry.major_axis_yaw_rad;
+  region.heading_spread_rad = geometry.heading_spread_rad;
+
+  // The fix's segment is judged on its centreline like the others: the fix's own distance
+  // decides validity, the region decides which segments count.
+  const auto judged_on_centreline = [&](std::int64_t segment_id, Assessment& out) {
+    out.road.segment_id = segment_id;
+    out.road.distance_m = 0.0;
+    out.valid_distance_m = a.valid_distance_m;
+    out.threshold = a.threshold;
+    Status judged =
+        judge(impl.queries.assessment, out, impl.thresholds.limited_visibility_unsuitable);
+    if (judged.code == StatusCode::not_found) {
+      throw std::runtime_error("segment " + std::to_string(segment_id) + " has no row");
+    }
+  };
+  bool fix_segment_suitable = a.suitable;
+  if (!a.valid) {
+    Assessment on_centreline;
+    judged_on_centreline(a.road.segment_id, on_centreline);
+    fix_segment_suitable = on_centreline.suitable;
+  }
+  const std::vector<detail::RegionSegment>& segments = impl.region_segments;
+  std::size_t suitable_samples =
+      fix_segment_suitable ? segments[geometry.fix_index].sample_count : 0;
+  bool any_suitable = fix_segment_suitable, any_unsuitable = !fix_segment_suitable;
+  region.segment_ids.push_back(a.road.segment_id);
+  for (std::size_t i = 0; i < geometry.segment_count; ++i) {
+    const detail::RegionSegment& s = segments[i];
+    if (i == geometry.fix_index || (s.sample_count == 0 && !s.centreline_in_region)) continue;
+    Assessment other;
+    judged_on_centreline(s.id, other);
+    region.segment_ids.push_back(s.id);
+    if (other.suitable) {
+      suitable_samples += s.sample_count;
+      any_suitable = true;
+    } else {
+      any_unsuitable = true;
+    }
+    // One road: the same OSM way, or a way of the same name (a street split at its junctions).
+    const bool same_way = other.road.osm_way_id == a.road.osm_way_id;
+    const bool same_name = !a.road.name.empty() && other.road.name == a.road.name;
+    if (!same_way && !same_name) region.same_road = false;
+  }
+  std::sort(region.segment_ids.begin() + 1, region.segment_ids.end());
+  region.suitable_share =
+      static_cast<double>(suitable_samples) / static_cast<double>(geometry.sample_count);
+  a.suitable = a.suitable && !any_unsuitable && region.same_road;
+  if (any_suitable && any_unsuitable) a.reasons.emplace_back("POSITION_UNCERTAIN");
+  if (!region.same_road) a.reasons.emplace_back("AMBIGUOUS_ROAD");
+  return {};
+}
+
 Result<Assessment> Map::assess(const Position& position, const AssessOptions& options) noexcept {
   Status checked = detail::check_assess_options(options);
   if (!checked.ok()) return Result<Assessment>{std::move(checked), std::nullopt};
@@ -376,6 +439,7 @@ Result<Assessment> Map::assess(const Position& position, const AssessOptions& op
     if (status.code == StatusCode::not_found) {
       status = Status{StatusCode::corrupt_database, impl.info.path + ": segment without a row"};
     }
+    if (status.ok() && position.uncertainty) status = impl.judge_region(*position.uncertainty, a);
     if (!status.ok()) return Result<Assessment>{std::move(status), std::nullopt};
     return result;
   } catch (const std::exception& e) {

@@ -137,6 +137,22 @@ Result<BetterPlaces> Map::better_place(const Position& position,
   Result<Assessment> here = assess(position, options.assess);
   if (!here.ok()) return Result<BetterPlaces>{here.status, std::nullopt};
   impl_->budget->restart();
+  // The candidates are judged with the robot's uncertainty turned into the grid at its fix
+  // (the convergence hardly changes over a walk of search_radius_m).
+  PositionUncertainty grid_uncertainty;
+  if (position.uncertainty) {
+    grid_uncertainty = *position.uncertainty;
+    if (grid_uncertainty.frame == PositionUncertainty::Frame::enu) {
+      try {
+        Status converted = detail::uncertainty_in_grid(
+            *position.uncertainty, impl_->info.zone,
+            {here->road.query.easting_m, here->road.query.northing_m}, grid_uncertainty);
+        if (!converted.ok()) return Result<BetterPlaces>{converted, std::nullopt};
+      } catch (const std::exception& e) {
+        return Result<BetterPlaces>{Status{StatusCode::invalid_argument, e.what()}, std::nullopt};
+      }
+    }
+  }
   try {
     const schema::PlanePoint robot{here->road.query.easting_m, here->road.query.northing_m};
     std::vector<LocalSegment> local = load_neighbourhood(impl_->db, impl_->info.schema_version,
@@ -284,6 +300,23 @@ Result<BetterPlaces> Map::better_place(const Position& position,
       if (kerb_too_high) c.reasons.emplace_back("KERB_TOO_HIGH");
       if (stranded) c.reasons.emplace_back("NO_PAVEMENT_FAR_SIDE");
       result.candidates.push_back(std::move(c));
+    }
+    if (position.uncertainty) {
+      // A better place must stay suitable when the robot stands there with the same
+      // uncertainty: judge each suitable candidate over its own region.
+      for (Candidate& c : result.candidates) {
+        if (!c.suitable) continue;
+        Result<Assessment> there = assess(
+            Position::utm(c.point.easting_m, c.point.northing_m).with_uncertainty(grid_uncertainty),
+            options.assess);
+        if (!there.ok()) return Result<BetterPlaces>{there.status, std::nullopt};
+        c.suitable = there->suitable;
+        c.suitable_share = there->region->suitable_share;
+        for (const char* code : {"POSITION_UNCERTAIN", "AMBIGUOUS_ROAD"}) {
+          if (std::find(there->reasons.begin(), there->reasons.end(), code) != there->reasons.end())
+            c.reasons.emplace_back(code);
+        }
+      }
     }
     std::sort(result.candidates.begin(), result.candidates.end(),
               [](const Candidate& a, const Candidate& b) {

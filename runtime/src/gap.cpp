@@ -109,6 +109,9 @@ Status check_common(const GapCrossing& c, const RobotMotion& r, double now_s, co
       !finite(c.maxspeed_kmh) || (c.junction_distance_m && !(*c.junction_distance_m >= 0))) {
     return invalid("gap: road width, lanes and maxspeed must be positive");
   }
+  if (!(c.along_road_uncertainty_m >= 0) || !finite(c.along_road_uncertainty_m)) {
+    return invalid("gap: along_road_uncertainty_m must be finite and >= 0 metres");
+  }
   for (const std::optional<double>& sight_m : {c.sight_forward_m, c.sight_backward_m}) {
     if (sight_m && !(*sight_m >= 0)) {  // also NaN; +infinity means "unlimited"
       return invalid("gap: a sight distance must be >= 0 metres");
@@ -194,7 +197,12 @@ Occupation occupation(const GapCrossing& c, const Frame& f, const TrackedVehicle
   out.lane = static_cast<int>(std::clamp(lane, 0.0, static_cast<double>(f.lanes - 1)));
   const double speed_along = ve * f.ux + vn * f.uy;
   const double speed = std::fabs(speed_along);
-  const double reach_m = corridor_half_m + 0.5 * v.length_m;  // centre-to-corridor overlap
+  // Centre-to-corridor overlap. A vehicle tracked in the grid is placed against the robot's fix,
+  // which may be off along the road by the region's half extent; one tracked relative to the
+  // robot is not.
+  const double fix_error_m =
+      v.frame == TrackedVehicle::Frame::utm ? c.along_road_uncertainty_m : 0.0;
+  const double reach_m = corridor_half_m + fix_error_m + 0.5 * v.length_m;
   const double age_s = now_s - v.time_s;
   if (speed < o.stopped_speed_mps) {
     // Stopped (at a light, yielding, parked): never arrives under a constant-velocity
@@ -406,6 +414,17 @@ Result<GapCrossing> gap_crossing(Map& map, const Position& position,
       std::max(1, static_cast<int>(std::lround(c.road_width_m / defaults.lane_width_m))));
   c.maxspeed_kmh = a->maxspeed_kmh.value_or(defaults.maxspeed_kmh);
   c.junction_distance_m = a->junction_distance_m;
+  if (a->region) {
+    // Half the region's extent along the road: for an ellipse with semi-axes a, b at angle t
+    // from the road, sqrt((a cos t)^2 + (b sin t)^2).
+    const double t = a->region->major_axis_yaw_rad - heading->road_heading_rad;
+    c.along_road_uncertainty_m =
+        std::hypot(a->region->semi_major_m * std::cos(t), a->region->semi_minor_m * std::sin(t));
+    // The junction may be that much nearer than the fix says.
+    if (c.junction_distance_m) {
+      c.junction_distance_m = std::max(0.0, *c.junction_distance_m - c.along_road_uncertainty_m);
+    }
+  }
   c.sight_forward_m = a->sight_forward_m;
   c.sight_backward_m = a->sight_backward_m;
   c.refuge_island = a->crossing_island.value_or(false);

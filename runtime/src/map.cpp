@@ -642,6 +642,17 @@ Result<RoadHeading> Map::road_heading(const Position& position, double max_dista
   } catch (const std::exception&) {
     heading.convergence_rad = 0.0;  // only outside the UTM domain, which nearest() rejected
   }
+  if (position.uncertainty) {
+    detail::RegionGeometry region;
+    try {
+      Status status = impl_->region_geometry(*position.uncertainty, *road, region);
+      if (!status.ok()) return fail<RoadHeading>(status.code, status.message);
+    } catch (const std::exception& e) {
+      impl_->queries.candidates.reset();
+      return fail<RoadHeading>(StatusCode::corrupt_database, impl_->info.path + ": " + e.what());
+    }
+    heading.heading_spread_rad = region.heading_spread_rad;
+  }
   heading.road = std::move(*road);
   return Result<RoadHeading>{Status{}, std::move(heading)};
 }

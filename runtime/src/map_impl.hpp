@@ -105,6 +105,34 @@ Status thresholds_from(const MapInfo& info, Thresholds& out);
 /// invalid_argument unless every per-call threshold is finite and in range.
 Status check_assess_options(const AssessOptions& options);
 
+/// One segment near an uncertain position, with its geometry and bounding box (grid metres).
+struct RegionSegment {
+  std::int64_t id = 0;
+  std::vector<schema::PlanePoint> points;
+  double min_x = 0.0, min_y = 0.0, max_x = 0.0, max_y = 0.0;
+  std::size_t sample_count = 0;       ///< samples of the region whose nearest segment this is
+  bool centreline_in_region = false;  ///< its centreline runs through the region's ellipse
+  /// Per edge: the axial difference of its direction from the fix's, radians; -1 until needed.
+  std::vector<double> edge_spread_rad;
+};
+
+/// The geometry of an uncertain position's region: which segments it touches, how much of its
+/// probability lies nearest to each, and how the road's direction varies over it.
+struct RegionGeometry {
+  double region_probability = 0.95;
+  double semi_major_m = 0.0, semi_minor_m = 0.0, major_axis_yaw_rad = 0.0;
+  std::size_t sample_count = 0;   ///< equal-probability samples of the region
+  std::size_t segment_count = 0;  ///< the first this many of Impl::region_segments are used
+  std::size_t fix_index = 0;      ///< the fix's own segment among them
+  double heading_spread_rad = 0.0;
+};
+
+/// `u` checked (finite, positive definite, probability in (0, 1)) and turned into the map's
+/// grid at `fix` (Frame::enu is rotated by the meridian convergence there). invalid_argument
+/// otherwise; throws std::exception when `fix` is outside the zone's projection.
+Status uncertainty_in_grid(const PositionUncertainty& u, const geo::UtmZone& zone,
+                           const schema::PlanePoint& fix, PositionUncertainty& grid);
+
 }  // namespace detail
 
 struct Map::Impl {
@@ -115,6 +143,9 @@ struct Map::Impl {
   detail::Thresholds thresholds;
   std::vector<schema::PlanePoint> scratch;  // reused geometry buffer: no allocation per query
   std::vector<schema::PlanePoint> best_geometry;
+  // Reused by the region of an uncertain position; only the first segment_count are live.
+  std::vector<detail::RegionSegment> region_segments;
+  std::vector<std::pair<double, std::size_t>> by_box_distance;  // (metres from the fix, index)
 
   Impl(std::unique_ptr<detail::WorkBudget> work_budget, sqlite::Database&& database,
        MapInfo&& map_info, detail::Thresholds map_thresholds)
@@ -143,6 +174,17 @@ struct Map::Impl {
   /// where exactly one other segment continues the road (a graph node of degree 2), which
   /// gives the bisector of the two segments' directions there. Throws like locate.
   double direction_at(std::int64_t segment_id, const detail::PolylineProjection& at);
+
+  /// The region of `uncertainty` around the located fix `road` (locate called): fills
+  /// region_segments and `out`. invalid_argument for a covariance that is not finite and
+  /// positive definite or a probability outside (0, 1); throws like locate.
+  Status region_geometry(const PositionUncertainty& uncertainty, const NearestRoad& road,
+                         detail::RegionGeometry& out);
+
+  /// Judges the segments of the region of `uncertainty` around the fix already judged in `a`,
+  /// fills a.region and narrows a's verdict to what holds over the whole region: suitable only
+  /// when every segment of it is and all are on the fix's road. Fails like region_geometry.
+  Status judge_region(const PositionUncertainty& uncertainty, Assessment& a);
 };
 
 }  // namespace roadcross

@@ -136,7 +136,11 @@ Status MapSet::Impl::find_candidates(const Position& position, double search_m) 
         p.northing_m > info.max_northing_m + search_m) {
       continue;
     }
-    candidates.push_back({i, Position::utm(p.easting_m, p.northing_m, info.zone)});
+    // The uncertainty goes with the position: a circular or ENU one means the same in every
+    // map's grid (the map turns ENU into its grid at the position).
+    Position in_zone = Position::utm(p.easting_m, p.northing_m, info.zone);
+    in_zone.uncertainty = position.uncertainty;
+    candidates.push_back({i, in_zone});
   }
   if (candidates.empty()) {
     char text[200];

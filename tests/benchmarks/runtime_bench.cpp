@@ -1,7 +1,7 @@
 // Runtime latency on the bundled Prague map (or the DB in $ROADCROSS_BENCH_DB): open, nearest,
-// assess, better_place, and a bare SQLite R*Tree lookup on the same DB for comparison; assess on
-// 1 and 2 threads (one Map per thread). Per-call percentiles are reported as counters
-// p50_us / p99_us. Run: scripts/bench-runtime.sh
+// assess (exact and with a 3 m position sigma), better_place, and a bare SQLite R*Tree lookup on
+// the same DB for comparison; assess on 1 and 2 threads (one Map per thread). Per-call
+// percentiles are reported as counters p50_us / p99_us. Run: scripts/bench-runtime.sh
 #include <benchmark/benchmark.h>
 #include <sqlite3.h>
 
@@ -90,6 +90,23 @@ void BM_Assess(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_Assess)->Unit(benchmark::kMicrosecond)->Threads(1)->Threads(2)->UseRealTime();
+
+// Exact and uncertain assess interleaved on the same positions, so that one run gives their
+// ratio under the same load (issue: a 3 m sigma within 3x an exact assess).
+void BM_AssessExactForSigma(benchmark::State& state) {
+  auto map = roadcross::Map::open(database());
+  timed_loop(state,
+             [&](const roadcross::Position& p) { benchmark::DoNotOptimize(map->assess(p).ok()); });
+}
+BENCHMARK(BM_AssessExactForSigma)->Unit(benchmark::kMicrosecond);
+
+void BM_AssessSigma3m(benchmark::State& state) {
+  auto map = roadcross::Map::open(database());
+  timed_loop(state, [&](const roadcross::Position& p) {
+    benchmark::DoNotOptimize(map->assess(p.with_sigma(3.0)).ok());
+  });
+}
+BENCHMARK(BM_AssessSigma3m)->Unit(benchmark::kMicrosecond);
 
 void BM_BetterPlace100m(benchmark::State& state) {
   auto map = roadcross::Map::open(database());

@@ -22,6 +22,30 @@ near "$(json_field "$WORK/a.json" distance_m)" 3.0 0.1 || fail "assess: distance
 "$ROADCROSS" assess --db "$WORK/map.gpkg" --lat $lat --lon $lon --threshold 26 --json >"$WORK/b.json"
 [[ $(json_field "$WORK/b.json" suitable) == False ]] && pass "assess --threshold 26: not suitable" || fail "threshold override"
 "$ROADCROSS" assess --db "$WORK/map.gpkg" --lat $lat --lon $lon | grep -q "^SUITABLE" || fail "assess text output"
+# Position uncertainty: on the straight road's middle a 3 m sigma changes nothing (one road, all
+# of it suitable: share 1, region radius 2.4477 x 3 = 7.343 m); sigma 0, a negative one and NaN
+# are usage errors (non-zero exit, before the map is opened) that name the option.
+"$ROADCROSS" assess --db "$WORK/map.gpkg" --lat $lat --lon $lon --sigma 3 --json >"$WORK/s.json"
+python3 - "$WORK/s.json" <<'PY' && pass "assess --sigma 3: suitable over the region, share 1" || fail "assess --sigma"
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["suitable"] and d["region"]["suitable_share"] == 1.0 and d["region"]["same_road"], d
+assert abs(d["region"]["semi_major_m"] - 7.343) < 0.001, d["region"]
+assert "POSITION_UNCERTAIN" not in d["reasons"] and "AMBIGUOUS_ROAD" not in d["reasons"], d
+PY
+"$ROADCROSS" assess --db "$WORK/map.gpkg" --lat $lat --lon $lon --sigma 3 | grep -q "^region .*100 % on suitable" \
+  && pass "assess --sigma: text region line" || fail "assess --sigma text output"
+for bad in 0 -1 nan inf; do
+  status=0
+  "$ROADCROSS" assess --db "$WORK/map.gpkg" --lat $lat --lon $lon --sigma=$bad >"$WORK/out" 2>"$WORK/err" || status=$?
+  [[ $status != 0 ]] && grep -q -- "--sigma" "$WORK/err" && pass "--sigma $bad: usage error" || fail "--sigma $bad: exit $status $(cat "$WORK/err")"
+done
+status=0
+"$ROADCROSS" assess --db "$WORK/map.gpkg" --lat $lat --lon $lon --sigma 1 --region-probability 1 >"$WORK/out" 2>"$WORK/err" || status=$?
+[[ $status != 0 ]] && pass "--region-probability 1: usage error" || fail "--region-probability 1: exit $status"
+"$ROADCROSS" heading --db "$WORK/map.gpkg" --lat $lat --lon $lon --sigma 3 --json >"$WORK/h.json"
+python3 -c "import json,sys; d=json.load(open('$WORK/h.json')); sys.exit(0 if d['heading_spread_rad'] < 1e-6 else 1)" \
+  && pass "heading --sigma: no spread on a straight road" || fail "heading --sigma"
 
 "$ROADCROSS" better --db "$WORK/map.gpkg" --lat $lat --lon $lon --radius 50 --json >"$WORK/c.json"
 python3 - "$WORK/c.json" <<'PY' && pass "better: candidates within 50 m, suitable, facing south" || fail "better"
@@ -34,14 +58,23 @@ assert all(abs(x["crossing_heading_rad"] + math.pi / 2) < 0.05 for x in c), c
 PY
 
 printf '%s\n' "{\"op\":\"assess\",\"lat\":$lat,\"lon\":$lon}" "" "{broken" "{\"op\":\"heading\",\"lat\":$lat,\"lon\":$lon}" \
-  "{\"op\":\"nearest\",\"lat\":95,\"lon\":14}" >"$WORK/requests"
+  "{\"op\":\"nearest\",\"lat\":95,\"lon\":14}" \
+  "{\"op\":\"assess\",\"lat\":$lat,\"lon\":$lon,\"sigma_m\":2}" \
+  "{\"op\":\"assess\",\"lat\":$lat,\"lon\":$lon,\"sigma_m\":0}" \
+  "{\"op\":\"assess\",\"lat\":$lat,\"lon\":$lon,\"covariance_enu_m2\":[4,0,1]}" >"$WORK/requests"
 status=0
 "$ROADCROSS" batch --db "$WORK/map.gpkg" <"$WORK/requests" >"$WORK/answers" || status=$?
 [[ $status == 3 ]] && pass "batch exit 3 when some requests fail" || fail "batch exit $status"
 python3 - "$WORK/answers" <<'PY' && pass "batch: one answer per request, numbered, errors per line" || fail "batch answers"
 import json, sys, math
 lines = [json.loads(l) for l in open(sys.argv[1])]
-assert [l["line"] for l in lines] == [1, 3, 4, 5], lines          # the blank line 2 is skipped
+assert [l["line"] for l in lines] == [1, 3, 4, 5, 6, 7, 8], lines  # the blank line 2 is skipped
+# sigma_m 2: region radius 2.4477 x 2; sigma_m 0: an error naming the uncertainty; an ENU
+# covariance diag(4, 1): semi-axes 2.4477 x 2 and x 1.
+assert lines[4]["ok"] and abs(lines[4]["result"]["region"]["semi_major_m"] - 4.8955) < 1e-3
+assert not lines[5]["ok"] and "position uncertainty" in lines[5]["error"], lines[5]
+r = lines[6]["result"]["region"]
+assert abs(r["semi_major_m"] - 4.8955) < 1e-3 and abs(r["semi_minor_m"] - 2.4477) < 1e-3, r
 assert lines[0]["ok"] and lines[0]["result"]["suitable"]
 assert not lines[1]["ok"] and lines[1]["error"].startswith("line 3:")
 assert lines[2]["ok"] and abs(lines[2]["result"]["crossing_heading_rad"] + math.pi / 2) < 0.05

@@ -168,6 +168,28 @@ class AgreesWithCli(unittest.TestCase):
         self.assertGreater(suitable, 0)
         self.assertLess(suitable, len(PRAGUE_POSITIONS))
 
+    def test_assess_under_uncertainty(self):
+        # sigma_m= and the batch's/CLI's --sigma reach the same runtime call: every field of the
+        # region equals the CLI's, and a circular ENU covariance (rotation-invariant) is the
+        # same region as sigma_m.
+        for lat, lon in PRAGUE_POSITIONS:
+            with self.subTest(lat=lat, lon=lon):
+                expected = cli_json("assess", "--db", prague_db, *lat_lon_args(lat, lon),
+                                    "--sigma", "3")
+                a = self.map.assess(lat=lat, lon=lon, sigma_m=3.0)
+                region = expected.pop("region")
+                self.assert_assessment(a, expected)
+                self.assertEqual({key: getattr(a.region, key) for key in region}, region)
+                enu = self.map.assess(lat=lat, lon=lon, covariance_enu_m2=[[9.0, 0.0], [0.0, 9.0]])
+                self.assertEqual(enu.region.segment_ids, a.region.segment_ids)
+                self.assertAlmostEqual(enu.region.suitable_share, a.region.suitable_share)
+                self.assertEqual(enu.suitable, a.suitable)
+                heading = cli_json("heading", "--db", prague_db, *lat_lon_args(lat, lon),
+                                   "--sigma", "3")
+                self.assertEqual(self.map.road_heading(lat=lat, lon=lon, sigma_m=3.0)
+                                 .heading_spread_rad, heading["heading_spread_rad"])
+        self.assertIsNone(self.map.assess(lat=50.0755, lon=14.4186).region)
+
     def test_assess_by_utm_equals_by_wgs84(self):
         for lat, lon in PRAGUE_POSITIONS:
             with self.subTest(lat=lat, lon=lon):
@@ -543,6 +565,30 @@ class PositionArguments(unittest.TestCase):
             self.assertEqual(caught.exception.code, "invalid_argument")
             with self.assertRaises(roadcross.InvalidArgumentError):
                 m.nearest(lat=50.0, lon=14.4, max_distance_m=-1.0)
+            # Position uncertainty: zero, negative and non-finite sigma, a covariance that is
+            # not 2x2, symmetric and positive definite, a probability outside (0, 1), or both
+            # forms at once.
+            for sigma in (0.0, -1.0, math.nan, math.inf):
+                with self.assertRaises(roadcross.InvalidArgumentError):
+                    m.assess(lat=50.0, lon=14.4, sigma_m=sigma)
+            with self.assertRaises(roadcross.InvalidArgumentError):
+                m.assess(lat=50.0, lon=14.4, covariance_enu_m2=[[1.0, 1.0], [1.0, 1.0]])
+            with self.assertRaises(ValueError):
+                m.assess(lat=50.0, lon=14.4, covariance_enu_m2=[[1.0, 0.5], [0.0, 1.0]])
+            with self.assertRaises(ValueError):
+                m.assess(lat=50.0, lon=14.4, covariance_enu_m2=[[1.0, 0.0, 0.0]])
+            with self.assertRaises(roadcross.InvalidArgumentError):
+                m.assess(lat=50.0, lon=14.4, sigma_m=1.0, region_probability=1.0)
+            with self.assertRaises(TypeError):
+                m.assess(lat=50.0, lon=14.4, sigma_m=1.0, covariance_enu_m2=[[1.0, 0.0], [0.0, 1.0]])
+            # 5 m north of the straight road's middle, sigma 1 m: the whole region is on the one
+            # road, all suitable or all not, so the share is exactly 1 or 0.
+            exact = m.assess(lat=50.0 + 5.0 / 111229.0, lon=14.4)
+            uncertain = m.assess(lat=50.0 + 5.0 / 111229.0, lon=14.4, sigma_m=1.0)
+            self.assertEqual(uncertain.suitable, exact.suitable)
+            self.assertEqual(uncertain.region.suitable_share, 1.0 if exact.suitable else 0.0)
+            self.assertTrue(uncertain.region.same_road)
+            self.assertAlmostEqual(uncertain.region.semi_major_m, 2.44775, places=4)
         # The with block closed the map; values read before stay valid (they are copies).
         self.assertTrue(m.closed)
         self.assertEqual(info.utm_zone, 33)

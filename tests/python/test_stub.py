@@ -372,7 +372,7 @@ class StubMatchesModule(unittest.TestCase):
         self.assertTrue(all(p[3] for p in params[1:]))
         self.assertEqual(params[1][1:3], (("Optional", (("float", ()),)), "None"))
         self.assertEqual(returns, ("Assessment", ()))
-        self.assertEqual(len(binding_members(roadcross.Assessment)), 40)  # 39 + __repr__
+        self.assertEqual(len(binding_members(roadcross.Assessment)), 41)  # 40 + __repr__
 
     def test_error_code_is_set(self):
         with self.assertRaises(roadcross.Error) as caught:

@@ -384,12 +384,15 @@ def main():
             return
         time.sleep(0.1)
 
-    def publish_fix(lat, lon, status):
+    def publish_fix(lat, lon, status, covariance=None, covariance_type=0):
         fix = NavSatFix()
         fix.header.stamp = rospy.Time.now()
         fix.header.frame_id = "gps"
         fix.status.status = status
         fix.latitude, fix.longitude = lat, lon
+        if covariance is not None:
+            fix.position_covariance = covariance
+        fix.position_covariance_type = covariance_type
         fix_pub.publish(fix)
         return fix.header.stamp
 
@@ -405,6 +408,38 @@ def main():
         same_assessment(a, ref_q, "published assessment")
         check(a.header.stamp == stamp and a.header.frame_id == "utm",
               "published assessment: the fix's stamp, frame utm")
+    # A fix whose covariance is known (DIAGONAL_KNOWN, 9 m^2 east and north: a circular 3 m
+    # sigma, the same in any frame) is assessed over its region, as `roadcross assess --sigma 3`;
+    # the same covariance marked UNKNOWN is not used (~uncertainty/sigma_m is 0: exact).
+    ref_s = cli("assess", "--db", db, "--lat", str(quiet[0]), "--lon", str(quiet[1]),
+                "--sigma", "3")
+    received.clear()
+    publish_fix(*quiet, NavSatStatus.STATUS_FIX, [9.0, 0, 0, 0, 9.0, 0, 0, 0, 100.0],
+                NavSatFix.COVARIANCE_TYPE_DIAGONAL_KNOWN)
+    deadline = time.time() + 10
+    while not received and time.time() < deadline:
+        time.sleep(0.05)
+    if check(len(received) == 1, "one assessment published for the fix with a covariance"):
+        a = received[0]
+        check(a.uncertain and list(a.region_segment_ids) == ref_s["region"]["segment_ids"]
+              and near(a.suitable_share, ref_s["region"]["suitable_share"], 1e-9)
+              and a.suitable == ref_s["suitable"] and list(a.reasons) == ref_s["reasons"]
+              and near(a.region_semi_major_m, ref_s["region"]["semi_major_m"], 1e-9),
+              "published assessment with a known covariance: as `roadcross assess --sigma 3` "
+              f"(share {a.suitable_share:.3f})")
+    r = assess(position=Position(kind=Position.CURRENT))
+    check(r.success and r.assessment.uncertain, "assess CURRENT: the fix's covariance")
+    r = assess(position=Position(kind=Position.CURRENT, sigma_m=1.0))
+    check(r.success and near(r.assessment.region_semi_major_m, 2.4477, 1e-3),
+          "assess CURRENT with the request's sigma_m 1: its own region")
+    received.clear()
+    publish_fix(*quiet, NavSatStatus.STATUS_FIX, [9.0, 0, 0, 0, 9.0, 0, 0, 0, 100.0],
+                NavSatFix.COVARIANCE_TYPE_UNKNOWN)
+    deadline = time.time() + 10
+    while not received and time.time() < deadline:
+        time.sleep(0.05)
+    check(len(received) == 1 and not received[0].uncertain,
+          "a covariance of unknown type is not used")
     r = assess(position=Position(kind=Position.CURRENT))
     check(r.success and near(r.assessment.query_easting_m, qe, 1e-6)
           and near(r.assessment.query_northing_m, qn, 1e-6),

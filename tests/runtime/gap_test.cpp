@@ -251,6 +251,32 @@ TEST(Gap, VehicleInRobotEnuFrameIsRotatedByConvergence) {
   EXPECT_NEAR(*r->margin_s, 1.2, 1e-9);
 }
 
+TEST(Gap, AnUncertainFixWidensTheCorridorForGridTracksOnly) {
+  // The just-after car (PET 1.2 s) with the robot's fix uncertain by 1.5 m along the road: the
+  // grid-tracked car may be 1.5 m nearer, so it enters at (70 - 3 - 1.5) / 10 = 6.55 s: PET
+  // 1.05 s, still GO at min PET 1 s; 4 m makes it 6.3 s: PET 0.8 s, WAIT. Tracked relative to the robot
+  // (robot_enu) the same car is unaffected: PET 1.2 s.
+  GapCrossing c = crossing();
+  c.along_road_uncertainty_m = 1.5;
+  auto r = gap_decision(c, robot(), std::vector{car(-70.0, 2.5, 10.0)}, 0.0, options());
+  ASSERT_TRUE(r.ok()) << r.status.message;
+  EXPECT_NEAR(*r->margin_s, 1.05, 1e-9);
+  EXPECT_EQ(r->verdict, GapVerdict::go);
+  c.along_road_uncertainty_m = 4.0;
+  r = gap_decision(c, robot(), std::vector{car(-70.0, 2.5, 10.0)}, 0.0, options());
+  ASSERT_TRUE(r.ok());
+  EXPECT_NEAR(*r->margin_s, 0.8, 1e-9);
+  EXPECT_EQ(r->verdict, GapVerdict::wait);
+  TrackedVehicle relative = car(-70.0, 2.5, 10.0);
+  relative.frame = TrackedVehicle::Frame::robot_enu;
+  r = gap_decision(c, robot(), std::vector{relative}, 0.0, options());
+  ASSERT_TRUE(r.ok());
+  EXPECT_NEAR(*r->margin_s, 1.2, 1e-9);
+  c.along_road_uncertainty_m = -1.0;
+  EXPECT_EQ(gap_decision(c, robot(), {}, 0.0, options()).status.code,
+            StatusCode::invalid_argument);
+}
+
 TEST(Gap, SightDistanceFromBend) {
   Assessment a;
   EXPECT_DOUBLE_EQ(sight_distance_m(a, 150.0), 150.0);

@@ -100,5 +100,6 @@ TEST(SchemaContract, WhatForbidsByItself) {
   EXPECT_EQ(forbidding,
             (std::vector<std::string_view>{"NOT_CROSSABLE_CLASS", "TUNNEL", "LIMITED_VISIBILITY",
                                            "TOO_FAR_FROM_ROAD", "LOW_SCORE", "KERB_TOO_HIGH",
-                                           "NO_PAVEMENT_FAR_SIDE"}));
+                                           "NO_PAVEMENT_FAR_SIDE", "POSITION_UNCERTAIN",
+                                           "AMBIGUOUS_ROAD"}));
 }

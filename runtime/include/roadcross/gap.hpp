@@ -43,6 +43,12 @@ struct GapCrossing {
   /// With an island: 1 = from the kerb to the island over the near lanes (`start` at the
   /// kerb), 2 = from the island over the far lanes (`start` on the island). Must be 1 or 2.
   int stage = 1;
+  /// Under position uncertainty: how far the robot may be from its fix along the road (half
+  /// the extent of the position's region along it), metres, >= 0; 0 for an exact position.
+  /// Vehicles tracked in the UTM grid may be that much nearer than they seem: the gap decision
+  /// widens the robot's corridor by it for them (not for those tracked relative to the robot),
+  /// and junction_distance_m is already shortened by it.
+  double along_road_uncertainty_m = 0.0;
 };
 
 /// Defaults for what the DB does not say.
@@ -53,9 +59,10 @@ struct GapCrossingDefaults {
 };
 
 /// The crossing at `position`: plan_crossing's start and heading, the DB's lanes, width,
-/// maxspeed (else `defaults`), junction distance, sight distances and refuge island. With an
-/// island, a position within a quarter of the carriageway's width of the centreline is on the
-/// island (stage 2); any other is at the kerb (stage 1).
+/// maxspeed (else `defaults`), junction distance, sight distances and refuge island, and with the
+/// position's uncertainty, along_road_uncertainty_m from its region. With an island, a position
+/// within a quarter of the carriageway's width of the centreline is on the island (stage 2); any
+/// other is at the kerb (stage 1).
 Result<GapCrossing> gap_crossing(Map& map, const Position& position,
                                  const GapCrossingDefaults& defaults = {}) noexcept;
 

@@ -55,7 +55,36 @@ struct Result {
   T* operator->() { return &*value; }
 };
 
-/// A query position: UTM easting/northing, or WGS84 latitude/longitude.
+/// How far a position may be off: the covariance of its error, a 2x2 symmetric matrix in m^2,
+/// and the share of that Gaussian which makes the region of places the robot may be at
+/// (docs/runtime.md, "Position uncertainty"). A GNSS receiver's covariance is in true ENU
+/// (east, north); the map's grid is turned against it by the meridian convergence, which
+/// the runtime applies (Frame::enu). A covariance already in the map's grid is Frame::grid.
+struct PositionUncertainty {
+  enum class Frame { grid, enu };
+  Frame frame = Frame::grid;
+  double east_east_m2 = 0.0;    ///< variance along east, m^2, > 0
+  double east_north_m2 = 0.0;   ///< covariance of east and north, m^2
+  double north_north_m2 = 0.0;  ///< variance along north, m^2, > 0; the matrix positive definite
+  /// Probability mass of the region (the ellipse holding this share of the Gaussian), in
+  /// (0, 1); 0.95 by default.
+  double region_probability = 0.95;
+
+  /// The same standard deviation `sigma_m` (metres, finite, > 0) in every direction. A
+  /// negative sigma keeps its sign in the variances, so that the queries reject it.
+  static PositionUncertainty circular(double sigma_m, double region_probability = 0.95) noexcept {
+    const double variance_m2 = (sigma_m < 0.0 ? -sigma_m : sigma_m) * sigma_m;
+    return {Frame::grid, variance_m2, 0.0, variance_m2, region_probability};
+  }
+  /// A covariance in true ENU (e.g. NavSatFix.position_covariance's first 2x2 block), m^2.
+  static PositionUncertainty enu(double east_east_m2, double east_north_m2, double north_north_m2,
+                                 double region_probability = 0.95) noexcept {
+    return {Frame::enu, east_east_m2, east_north_m2, north_north_m2, region_probability};
+  }
+};
+
+/// A query position: UTM easting/northing, or WGS84 latitude/longitude, with an optional
+/// uncertainty (unset: the position is taken as exact).
 struct Position {
   enum class Kind { utm, wgs84 };
   Kind kind = Kind::utm;
@@ -65,18 +94,50 @@ struct Position {
   /// reprojects a position given in another zone; a MapSet, whose maps may lie in several
   /// zones, takes a UTM position only with its zone.
   geo::UtmZone zone{0, true};
+  std::optional<PositionUncertainty> uncertainty;
 
   /// Easting and northing in the zone of the map asked (metres).
   static Position utm(double easting_m, double northing_m) noexcept {
-    return {Kind::utm, easting_m, northing_m, geo::UtmZone{0, true}};
+    return {Kind::utm, easting_m, northing_m, geo::UtmZone{0, true}, std::nullopt};
   }
   /// Easting and northing in `zone` (metres; zone 1..60).
   static Position utm(double easting_m, double northing_m, geo::UtmZone zone) noexcept {
-    return {Kind::utm, easting_m, northing_m, zone};
+    return {Kind::utm, easting_m, northing_m, zone, std::nullopt};
   }
   static Position wgs84(double lat_deg, double lon_deg) noexcept {
-    return {Kind::wgs84, lat_deg, lon_deg, geo::UtmZone{0, true}};
+    return {Kind::wgs84, lat_deg, lon_deg, geo::UtmZone{0, true}, std::nullopt};
   }
+  /// This position with a circular uncertainty of `sigma_m` (metres, finite, > 0).
+  Position with_sigma(double sigma_m, double region_probability = 0.95) const noexcept {
+    Position p = *this;
+    p.uncertainty = PositionUncertainty::circular(sigma_m, region_probability);
+    return p;
+  }
+  /// This position with the given uncertainty.
+  Position with_uncertainty(const PositionUncertainty& u) const noexcept {
+    Position p = *this;
+    p.uncertainty = u;
+    return p;
+  }
+};
+
+/// The region of an uncertain position and what the answer is over it (docs/runtime.md,
+/// "Position uncertainty").
+struct UncertaintyRegion {
+  double region_probability = 0.95;  ///< the Gaussian mass the region holds
+  /// The region's ellipse in the map's grid: semi-axes (metres) and the direction of the major
+  /// axis (ENU yaw in the grid, radians, (-pi/2, pi/2]).
+  double semi_major_m = 0.0, semi_minor_m = 0.0, major_axis_yaw_rad = 0.0;
+  /// Every segment that is the nearest road somewhere in the region or whose centreline runs
+  /// through it, the nearest one at the fix itself first.
+  std::vector<std::int64_t> segment_ids;
+  bool same_road = true;  ///< all of them belong to the road of the fix (same OSM way or name)
+  /// Share of the region's probability (Gaussian weights, conditional on being in the region)
+  /// on places whose segment is suitable, [0, 1].
+  double suitable_share = 0.0;
+  /// The largest difference between the road's direction at the fix and at any place of the
+  /// region, as an axis (a road drawn the other way is the same axis), radians, [0, pi/2].
+  double heading_spread_rad = 0.0;
 };
 
 struct PlanePoint {
@@ -138,6 +199,9 @@ struct RoadHeading {
   /// Add to a grid yaw to get a yaw relative to true east (see geo::UtmPoint).
   double convergence_rad = 0.0;
   bool on_centreline = false;
+  /// Under position uncertainty: how much the road's direction varies over the region (see
+  /// UncertaintyRegion::heading_spread_rad), radians, [0, pi/2].
+  std::optional<double> heading_spread_rad;
 };
 
 /// Per-call overrides of the DB's suitability thresholds (unset = the DB's value, recorded at
@@ -193,8 +257,13 @@ struct Assessment {
   std::string override_note;  ///< the operator's note when an override applies
   /// Reason codes: the segment's (NEAR_JUNCTION, SHARP_BEND, BUSY_ROAD, NOT_CROSSABLE_CLASS,
   /// TUNNEL, CREST_OR_DIP, ...) plus TOO_FAR_FROM_ROAD, NO_ELEVATION, LOW_SCORE, OVERRIDE,
-  /// KERB_TOO_HIGH and NO_PAVEMENT_FAR_SIDE (both make the place unsuitable).
+  /// KERB_TOO_HIGH and NO_PAVEMENT_FAR_SIDE (both make the place unsuitable), and under position
+  /// uncertainty POSITION_UNCERTAIN / AMBIGUOUS_ROAD.
   std::vector<std::string> reasons;
+  /// Set when the position has an uncertainty: the region and the share on suitable places.
+  /// Then `suitable` holds only when the fix's segment and every segment of the region are
+  /// suitable and on the same road; the cost terms above stay those of the fix's segment.
+  std::optional<UncertaintyRegion> region;
 };
 
 struct BetterPlaceOptions {
@@ -212,8 +281,11 @@ struct Candidate {
   std::int64_t segment_id = 0;
   /// assess's verdict at `point` (the same rule: schema::judge_segment).
   bool suitable = false;
-  int score = 0;                      ///< score + context_score
-  bool designated_crossing = false;   ///< a designated crossing within 5 m of the place
+  int score = 0;                     ///< score + context_score
+  bool designated_crossing = false;  ///< a designated crossing within 5 m of the place
+  /// Under position uncertainty: the share of the region around `point` on suitable places
+  /// (UncertaintyRegion::suitable_share); `suitable` then means suitable over that region.
+  std::optional<double> suitable_share;
   double crossing_heading_rad = 0.0;  ///< ENU yaw (UTM grid) across the road from that side
   std::vector<std::string> reasons;
 };

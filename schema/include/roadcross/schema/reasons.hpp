@@ -40,6 +40,13 @@ inline constexpr std::array<ReasonSpec, 13> kReasons = {{
     {"KERB_TOO_HIGH", "a kerb here is higher than the robot can climb", true, false},
     {"NO_PAVEMENT_FAR_SIDE", "the far side of the road is tagged without a pavement to cross onto",
      true, false},
+    // Under position uncertainty (docs/runtime.md, "Position uncertainty").
+    {"POSITION_UNCERTAIN",
+     "the verdict changes within the region the robot may be in: it needs a better fix", true,
+     false},
+    {"AMBIGUOUS_ROAD",
+     "another road lies within the region the robot may be in: which one it is at is unknown", true,
+     false},
 }};
 
 /// The number of codes the build stores (they come first in kReasons).

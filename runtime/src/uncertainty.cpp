@@ -1,0 +1,269 @@
+// The region of an uncertain position (docs/runtime.md, "Position uncertainty"): the ellipse
+// that holds region_probability of the fix's Gaussian, sampled at points of equal probability,
+// and the road segment nearest to each sample.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "map_impl.hpp"
+#include "polyline.hpp"
+
+namespace roadcross {
+namespace {
+
+// The samples: kRings rings of equal probability, each with kAngles points at equal angles
+// (odd rings turned by half a step), in the whitened frame where the Gaussian is circular.
+// Equal probability per sample makes the share on suitable places a plain count.
+constexpr int kRings = 8;
+constexpr int kAngles = 32;
+
+struct UnitDirections {
+  std::array<double, 2 * kAngles> cos_values{}, sin_values{};
+  UnitDirections() {
+    for (int i = 0; i < 2 * kAngles; ++i) {
+      const double angle = geo::kPi * i / kAngles;  // half steps of 2 pi / kAngles
+      cos_values[i] = std::cos(angle);
+      sin_values[i] = std::sin(angle);
+    }
+  }
+};
+
+const UnitDirections& unit_directions() {
+  static const UnitDirections directions;
+  return directions;
+}
+
+/// A covariance in the map's grid, checked, with its Cholesky factor L (Sigma = L L^T).
+struct GridCovariance {
+  double ee = 0.0, en = 0.0, nn = 0.0;
+  double l11 = 0.0, l21 = 0.0, l22 = 0.0;
+};
+
+Status invalid(const std::string& message) {
+  return {StatusCode::invalid_argument, "position uncertainty: " + message};
+}
+
+}  // namespace
+
+namespace detail {
+
+Status uncertainty_in_grid(const PositionUncertainty& u, const geo::UtmZone& zone,
+                           const schema::PlanePoint& fix, PositionUncertainty& grid) {
+  if (!std::isfinite(u.east_east_m2) || !std::isfinite(u.east_north_m2) ||
+      !std::isfinite(u.north_north_m2)) {
+    return invalid("the covariance (or sigma) has a NaN or infinite value");
+  }
+  if (!(u.east_east_m2 > 0.0) || !(u.north_north_m2 > 0.0) ||
+      !(u.east_east_m2 * u.north_north_m2 - u.east_north_m2 * u.east_north_m2 > 0.0)) {
+    return invalid(
+        "sigma must be > 0 and the covariance positive definite (an exact position has no "
+        "uncertainty: leave it unset)");
+  }
+  if (!(u.region_probability > 0.0 && u.region_probability < 1.0)) {
+    return invalid("region_probability must be in (0, 1)");
+  }
+  grid = u;
+  if (u.frame == PositionUncertainty::Frame::enu) {
+    // true_yaw = grid_yaw + convergence: a vector in true ENU turns by -convergence into the
+    // grid, Sigma_grid = R Sigma_enu R^T with R the rotation by -convergence.
+    const geo::LatLon ll = geo::utm_to_wgs84(fix.x, fix.y, zone);
+    const double c = geo::wgs84_to_utm(ll.lat_deg, ll.lon_deg, zone).convergence_rad;
+    const double cs = std::cos(c), sn = std::sin(c);
+    // R = [[cs, sn], [-sn, cs]]
+    grid.frame = PositionUncertainty::Frame::grid;
+    grid.east_east_m2 =
+        cs * cs * u.east_east_m2 + 2.0 * cs * sn * u.east_north_m2 + sn * sn * u.north_north_m2;
+    grid.north_north_m2 =
+        sn * sn * u.east_east_m2 - 2.0 * cs * sn * u.east_north_m2 + cs * cs * u.north_north_m2;
+    grid.east_north_m2 = -cs * sn * u.east_east_m2 + (cs * cs - sn * sn) * u.east_north_m2 +
+                         cs * sn * u.north_north_m2;
+  }
+  return {};
+}
+
+}  // namespace detail
+
+namespace {
+
+Status grid_covariance(const PositionUncertainty& u, const geo::UtmZone& zone,
+                       const schema::PlanePoint& fix, GridCovariance& out) {
+  PositionUncertainty grid;
+  Status status = detail::uncertainty_in_grid(u, zone, fix, grid);
+  if (!status.ok()) return status;
+  out.ee = grid.east_east_m2;
+  out.en = grid.east_north_m2;
+  out.nn = grid.north_north_m2;
+  out.l11 = std::sqrt(out.ee);
+  out.l21 = out.en / out.l11;
+  out.l22 = std::sqrt(std::max(out.nn - out.l21 * out.l21, 0.0));
+  if (!(out.l22 > 0.0)) return invalid("the covariance is not positive definite");
+  return {};
+}
+
+/// Lower bound of the squared distance from `p` to anything inside the box of `s`, m^2.
+double box_distance_sq_m2(const detail::RegionSegment& s, const schema::PlanePoint& p) {
+  const double dx = std::max({s.min_x - p.x, 0.0, p.x - s.max_x});
+  const double dy = std::max({s.min_y - p.y, 0.0, p.y - s.max_y});
+  return dx * dx + dy * dy;
+}
+
+/// Squared distance from `p` to the polyline, m^2, and the edge it is nearest to (squares,
+/// not hypot: this runs for every sample and candidate).
+double polyline_distance_sq_m2(const std::vector<schema::PlanePoint>& points,
+                               const schema::PlanePoint& p, std::size_t& edge) {
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i + 1 < points.size(); ++i) {
+    const schema::PlanePoint a = points[i], b = points[i + 1];
+    const double dx = b.x - a.x, dy = b.y - a.y;
+    const double length_sq = dx * dx + dy * dy;
+    double t = 0.0;
+    if (length_sq > 0.0)
+      t = std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / length_sq, 0.0, 1.0);
+    const double ex = a.x + t * dx - p.x, ey = a.y + t * dy - p.y;
+    const double d = ex * ex + ey * ey;
+    if (d < best) {
+      best = d;
+      edge = i;
+    }
+  }
+  return best;
+}
+
+/// The smaller angle between two road directions taken as axes, radians, [0, pi/2].
+double axial_difference_rad(double a_rad, double b_rad) {
+  const double d = std::abs(geo::angle_difference_rad(a_rad, b_rad));
+  return d > geo::kPi / 2.0 ? geo::kPi - d : d;
+}
+
+}  // namespace
+
+Status Map::Impl::region_geometry(const PositionUncertainty& uncertainty, const NearestRoad& road,
+                                  detail::RegionGeometry& out) {
+  const schema::PlanePoint fix{road.query.easting_m, road.query.northing_m};
+  GridCovariance cov;
+  Status status;
+  try {
+    status = grid_covariance(uncertainty, info.zone, fix, cov);
+  } catch (const std::exception& e) {
+    return invalid(e.what());
+  }
+  if (!status.ok()) return status;
+
+  // The region: Mahalanobis radius k with P(chi^2_2 <= k^2) = p, i.e. k^2 = -2 ln(1 - p).
+  const double p = uncertainty.region_probability;
+  const double k = std::sqrt(-2.0 * std::log1p(-p));
+  const double half_trace = 0.5 * (cov.ee + cov.nn);
+  const double root = std::hypot(0.5 * (cov.ee - cov.nn), cov.en);
+  out.region_probability = p;
+  out.semi_major_m = k * std::sqrt(half_trace + root);
+  out.semi_minor_m = k * std::sqrt(std::max(half_trace - root, 0.0));
+  out.major_axis_yaw_rad = 0.5 * std::atan2(2.0 * cov.en, cov.ee - cov.nn);
+
+  // Every segment nearest to some place of the region is within the fix's distance plus the
+  // region's largest radius of that place, so inside this box.
+  const double reach_m = road.distance_m + out.semi_major_m;
+  const double half_x = k * cov.l11 + reach_m;
+  const double half_y = k * std::sqrt(cov.nn) + reach_m;
+  sqlite::Statement& stmt = queries.candidates;
+  stmt.bind(1, fix.x - half_x);
+  stmt.bind(2, fix.x + half_x);
+  stmt.bind(3, fix.y - half_y);
+  stmt.bind(4, fix.y + half_y);
+  std::size_t count = 0;
+  out.fix_index = std::numeric_limits<std::size_t>::max();
+  while (stmt.step()) {
+    if (count == region_segments.size()) region_segments.emplace_back();
+    detail::RegionSegment& s = region_segments[count];
+    s.id = stmt.column_int64(0);
+    if (!schema::decode_linestring(stmt.column_blob(1), s.points)) {
+      stmt.reset();
+      throw std::runtime_error("segment " + std::to_string(s.id) + " has a malformed geometry");
+    }
+    s.min_x = s.max_x = s.points.front().x;
+    s.min_y = s.max_y = s.points.front().y;
+    for (const schema::PlanePoint& q : s.points) {
+      s.min_x = std::min(s.min_x, q.x);
+      s.max_x = std::max(s.max_x, q.x);
+      s.min_y = std::min(s.min_y, q.y);
+      s.max_y = std::max(s.max_y, q.y);
+    }
+    s.sample_count = 0;
+    // Does the centreline run through the ellipse? In the whitened frame (z = L^-1 (x - fix))
+    // the ellipse is the disc of radius k, and a linear map keeps straight edges straight.
+    scratch.resize(s.points.size());
+    for (std::size_t i = 0; i < s.points.size(); ++i) {
+      const double z1 = (s.points[i].x - fix.x) / cov.l11;
+      scratch[i] = {z1, (s.points[i].y - fix.y - cov.l21 * z1) / cov.l22};
+    }
+    s.centreline_in_region = detail::project_onto_polyline(scratch, {0.0, 0.0}).distance_m <= k;
+    if (s.id == road.segment_id) out.fix_index = count;
+    ++count;
+  }
+  stmt.reset();
+  if (out.fix_index == std::numeric_limits<std::size_t>::max()) {
+    throw std::runtime_error("segment " + std::to_string(road.segment_id) + " is not indexed");
+  }
+  out.segment_count = count;
+
+  const detail::RegionSegment& own = region_segments[out.fix_index];
+  const double fix_direction =
+      detail::polyline_direction_rad(own.points, detail::project_onto_polyline(own.points, fix));
+  // The road's direction at a sample is its nearest edge's: computed once per edge.
+  for (std::size_t i = 0; i < count; ++i) {
+    region_segments[i].edge_spread_rad.assign(region_segments[i].points.size() - 1, -1.0);
+  }
+  by_box_distance.clear();
+  for (std::size_t i = 0; i < count; ++i) {
+    by_box_distance.emplace_back(std::sqrt(box_distance_sq_m2(region_segments[i], fix)), i);
+  }
+  std::sort(by_box_distance.begin(), by_box_distance.end());
+  const UnitDirections& unit = unit_directions();
+  std::size_t previous = out.fix_index;
+  out.heading_spread_rad = 0.0;
+  out.sample_count = 0;
+  for (int ring = 0; ring < kRings; ++ring) {
+    // The ring's middle in probability: P(r <= radius) = p (ring + 1/2) / kRings.
+    const double radius = std::sqrt(-2.0 * std::log1p(-p * (ring + 0.5) / kRings));
+    for (int step = 0; step < kAngles; ++step) {
+      const int half_steps = 2 * step + (ring % 2);
+      const double z1 = radius * unit.cos_values[half_steps];
+      const double z2 = radius * unit.sin_values[half_steps];
+      const schema::PlanePoint place{fix.x + cov.l11 * z1, fix.y + cov.l21 * z1 + cov.l22 * z2};
+      // Nearest segment: start from the previous sample's (neighbours usually share it), go
+      // through the others by their boxes' distance from the fix, and stop where even that
+      // less the sample's distance from the fix is farther than the best so far.
+      const double from_fix_m =
+          std::sqrt((place.x - fix.x) * (place.x - fix.x) + (place.y - fix.y) * (place.y - fix.y));
+      std::size_t best = previous;
+      std::size_t best_edge = 0;
+      double best_sq = polyline_distance_sq_m2(region_segments[best].points, place, best_edge);
+      for (const auto& [box_from_fix_m, i] : by_box_distance) {
+        const double bound_m = box_from_fix_m - from_fix_m;
+        if (bound_m > 0.0 && bound_m * bound_m >= best_sq) break;
+        if (i == previous || box_distance_sq_m2(region_segments[i], place) >= best_sq) continue;
+        std::size_t edge = 0;
+        const double d = polyline_distance_sq_m2(region_segments[i].points, place, edge);
+        if (d < best_sq) {
+          best = i;
+          best_sq = d;
+          best_edge = edge;
+        }
+      }
+      detail::RegionSegment& nearest = region_segments[best];
+      ++nearest.sample_count;
+      ++out.sample_count;
+      previous = best;
+      double& spread = nearest.edge_spread_rad[best_edge];
+      if (spread < 0.0) {
+        const schema::PlanePoint a = nearest.points[best_edge], b = nearest.points[best_edge + 1];
+        spread = axial_difference_rad(geo::grid_yaw_rad(b.x - a.x, b.y - a.y), fix_direction);
+      }
+      out.heading_spread_rad = std::max(out.heading_spread_rad, spread);
+    }
+  }
+  return {};
+}
+
+}  // namespace roadcross
