@@ -751,6 +751,7 @@ class MapSet:
         valid_distance_m: Optional[float] = None,
         threshold: Optional[float] = None,
         max_distance_m: float = 1000.0,
+        max_kerb_height_m: Optional[float] = None,
     ) -> tuple[Assessment, MapSource]:
         """Map.assess over the set: (Assessment, MapSource).
         Position (keyword-only): lat, lon: WGS84 latitude and longitude, degrees; or easting,
@@ -770,6 +771,7 @@ class MapSet:
         max_candidates: int = 5,
         valid_distance_m: Optional[float] = None,
         threshold: Optional[float] = None,
+        max_kerb_height_m: Optional[float] = None,
     ) -> tuple[BetterPlaces, MapSource]:
         """Map.better_place over the set: (BetterPlaces, MapSource).
         Position (keyword-only): lat, lon: WGS84 latitude and longitude, degrees; or easting,

@@ -181,34 +181,6 @@ Position zoned_position_from(std::optional<double> lat, std::optional<double> lo
   return Position::utm(position.first, position.second, *zone);
 }
 
-/// A MapSet that can be closed, like PyMap.
-class PyMapSet {
- public:
-  explicit PyMapSet(const std::vector<std::filesystem::path>& paths)
-      : set_(value_or_raise(MapSet::open(strings_of(paths)))) {}
-  MapSet& get() {
-    if (!set_) throw py::value_error("this roadcross.MapSet is closed");
-    return *set_;
-  }
-  void close() { set_.reset(); }
-  bool closed() const { return !set_.has_value(); }
-
- private:
-  static std::vector<std::string> strings_of(const std::vector<std::filesystem::path>& paths) {
-    std::vector<std::string> out;
-    for (const auto& path : paths) out.push_back(path.string());
-    return out;
-  }
-  std::optional<MapSet> set_;
-};
-
-/// (answer, MapSource) of a set's answer, or the error raised.
-template <typename T>
-std::pair<T, MapSource> answer_and_source(Result<FromMap<T>>&& result) {
-  FromMap<T> answer = value_or_raise(std::move(result));
-  return {std::move(answer.answer), std::move(answer.map)};
-}
-
 // The four position keywords, first after the keyword-only marker of every positional query.
 #define ROADCROSS_POSITION_ARGS                                            \
   py::kw_only(), py::arg("lat") = py::none(), py::arg("lon") = py::none(), \
@@ -291,6 +263,76 @@ class PyMap {
 
   std::mutex mutex_;
   std::optional<Map> map_;
+};
+
+/// (answer, MapSource) of a set's answer, or the error raised.
+template <typename T>
+std::pair<T, MapSource> answer_and_source(Result<FromMap<T>>&& result) {
+  FromMap<T> answer = value_or_raise(std::move(result));
+  return {std::move(answer.answer), std::move(answer.map)};
+}
+
+/// A MapSet that can be closed before it is garbage-collected; queries run without the GIL under
+/// a mutex, as PyMap's.
+class PyMapSet {
+ public:
+  explicit PyMapSet(const std::vector<std::filesystem::path>& paths)
+      : set_(open_without_gil(strings_of(paths))) {}
+
+  /// f(MapSet&) -> Result<FromMap<T>>, run without the GIL and under the mutex; (answer,
+  /// MapSource), or the Status raised. f must not touch Python objects.
+  template <typename F>
+  auto query(F&& f) {
+    using ResultType = decltype(f(std::declval<MapSet&>()));
+    std::optional<ResultType> result;
+    {
+      py::gil_scoped_release release;
+      const std::lock_guard<std::mutex> lock(mutex_);
+      if (set_) result.emplace(f(*set_));
+    }
+    if (!result) throw py::value_error("this roadcross.MapSet is closed");
+    return answer_and_source(std::move(*result));
+  }
+
+  /// Copies of every map's description, in the set's order.
+  std::vector<MapInfo> infos() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (!set_) throw py::value_error("this roadcross.MapSet is closed");
+    std::vector<MapInfo> out;
+    for (std::size_t i = 0; i < set_->size(); ++i) out.push_back(set_->map(i).info());
+    return out;
+  }
+  std::size_t size() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (!set_) throw py::value_error("this roadcross.MapSet is closed");
+    return set_->size();
+  }
+  void close() {
+    py::gil_scoped_release release;  // a query in another thread may hold the mutex
+    const std::lock_guard<std::mutex> lock(mutex_);
+    set_.reset();
+  }
+  bool closed() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return !set_.has_value();
+  }
+
+ private:
+  static std::vector<std::string> strings_of(const std::vector<std::filesystem::path>& paths) {
+    std::vector<std::string> out;
+    for (const auto& path : paths) out.push_back(path.string());
+    return out;
+  }
+  static std::optional<MapSet> open_without_gil(const std::vector<std::string>& paths) {
+    Result<MapSet> opened = [&] {
+      py::gil_scoped_release release;
+      return MapSet::open(paths);
+    }();
+    return value_or_raise(std::move(opened));
+  }
+
+  std::mutex mutex_;
+  std::optional<MapSet> set_;
 };
 
 AssessOptions assess_options(std::optional<double> valid_distance_m,
@@ -855,16 +897,10 @@ void bind_map_set(py::module_& m) {
                        "One MapSet per thread. Usable as a context manager (closes on exit).")
       .def(py::init<const std::vector<std::filesystem::path>&>(), "paths"_a,
            "paths: map files and directories of maps (str or os.PathLike each)")
-      .def("__len__", [](PyMapSet& self) { return self.get().size(); })
+      .def("__len__", [](PyMapSet& self) { return self.size(); })
       .def_property_readonly(
           "maps",
-          [](PyMapSet& self) {
-            std::vector<MapInfo> out;
-            for (std::size_t i = 0; i < self.get().size(); ++i) {
-              out.push_back(self.get().map(i).info());
-            }
-            return out;
-          },
+          [](PyMapSet& self) { return self.infos(); },
           "MapInfo of every map, in the set's order (a directory's maps by name)")
       .def_property_readonly("closed", &PyMapSet::closed,
                              "True after close() or the end of the with block")
@@ -880,8 +916,8 @@ void bind_map_set(py::module_& m) {
           [](PyMapSet& self, std::optional<double> lat, std::optional<double> lon,
              std::optional<double> easting, std::optional<double> northing,
              std::optional<std::string> utm_zone, double max_distance_m) {
-            return answer_and_source(self.get().nearest(
-                zoned_position_from(lat, lon, easting, northing, utm_zone), max_distance_m));
+            const Position position = zoned_position_from(lat, lon, easting, northing, utm_zone);
+            return self.query([&](MapSet& set) { return set.nearest(position, max_distance_m); });
           },
           ROADCROSS_SET_POSITION_ARGS, "max_distance_m"_a = 1000.0,
           "Map.nearest over the set: (NearestRoad, MapSource).\n" ROADCROSS_SET_POSITION_DOC
@@ -892,13 +928,16 @@ void bind_map_set(py::module_& m) {
           [](PyMapSet& self, std::optional<double> lat, std::optional<double> lon,
              std::optional<double> easting, std::optional<double> northing,
              std::optional<std::string> utm_zone, std::optional<double> valid_distance_m,
-             std::optional<double> threshold, double max_distance_m) {
-            return answer_and_source(
-                self.get().assess(zoned_position_from(lat, lon, easting, northing, utm_zone),
-                                  assess_options(valid_distance_m, threshold, max_distance_m)));
+             std::optional<double> threshold, double max_distance_m,
+             std::optional<double> max_kerb_height_m) {
+            const Position position = zoned_position_from(lat, lon, easting, northing, utm_zone);
+            const AssessOptions options =
+                assess_options(valid_distance_m, threshold, max_distance_m, max_kerb_height_m);
+            return self.query([&](MapSet& set) { return set.assess(position, options); });
           },
           ROADCROSS_SET_POSITION_ARGS, "valid_distance_m"_a = py::none(),
           "threshold"_a = py::none(), "max_distance_m"_a = AssessOptions{}.max_distance_m,
+          "max_kerb_height_m"_a = py::none(),
           "Map.assess over the set: (Assessment, MapSource).\n" ROADCROSS_SET_POSITION_DOC
           "Thresholds and max_distance_m as in Map.assess.")
       .def(
@@ -907,17 +946,18 @@ void bind_map_set(py::module_& m) {
              std::optional<double> easting, std::optional<double> northing,
              std::optional<std::string> utm_zone, double search_radius_m,
              std::size_t max_candidates, std::optional<double> valid_distance_m,
-             std::optional<double> threshold) {
+             std::optional<double> threshold, std::optional<double> max_kerb_height_m) {
             BetterPlaceOptions options;
             options.search_radius_m = search_radius_m;
             options.max_candidates = max_candidates;
-            options.assess = assess_options(valid_distance_m, threshold, 1000.0);
-            return answer_and_source(self.get().better_place(
-                zoned_position_from(lat, lon, easting, northing, utm_zone), options));
+            options.assess = assess_options(valid_distance_m, threshold, 1000.0, max_kerb_height_m);
+            const Position position = zoned_position_from(lat, lon, easting, northing, utm_zone);
+            return self.query([&](MapSet& set) { return set.better_place(position, options); });
           },
           ROADCROSS_SET_POSITION_ARGS, "search_radius_m"_a = BetterPlaceOptions{}.search_radius_m,
           "max_candidates"_a = BetterPlaceOptions{}.max_candidates,
           "valid_distance_m"_a = py::none(), "threshold"_a = py::none(),
+          "max_kerb_height_m"_a = py::none(),
           "Map.better_place over the set: (BetterPlaces, MapSource).\n" ROADCROSS_SET_POSITION_DOC
           "Options as in Map.better_place.")
       .def(
@@ -925,15 +965,16 @@ void bind_map_set(py::module_& m) {
           [](PyMapSet& self, std::optional<double> lat, std::optional<double> lon,
              std::optional<double> easting, std::optional<double> northing,
              std::optional<std::string> utm_zone, double max_distance_m) {
-            return answer_and_source(self.get().road_heading(
-                zoned_position_from(lat, lon, easting, northing, utm_zone), max_distance_m));
+            const Position position = zoned_position_from(lat, lon, easting, northing, utm_zone);
+            return self.query(
+                [&](MapSet& set) { return set.road_heading(position, max_distance_m); });
           },
           ROADCROSS_SET_POSITION_ARGS, "max_distance_m"_a = 1000.0,
           "Map.road_heading over the set: (RoadHeading, MapSource).\n" ROADCROSS_SET_POSITION_DOC
           "max_distance_m: search radius, metres, > 0.")
       .def("__repr__", [](PyMapSet& self) {
         if (self.closed()) return std::string("roadcross.MapSet(<closed>)");
-        return "roadcross.MapSet(<" + std::to_string(self.get().size()) + " maps>)";
+        return "roadcross.MapSet(<" + std::to_string(self.size()) + " maps>)";
       });
 }
 
