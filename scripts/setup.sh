@@ -18,6 +18,8 @@ packages=(
   libcairo2-dev fonts-dejavu-core
   # checking tools used by tests and benchmarks
   osmium-tool gdal-bin sqlite3 time bc gnuplot-nox
+  # GDAL's GeoPackage validator (osgeo_utils/samples/validate_gpkg.py) checks every test map
+  python3-gdal
   # type-checks the Python examples of docs/embedding.md against python/roadcross.pyi
   python3-mypy
   # the viewer's test loads the page in headless Chromium

@@ -205,7 +205,8 @@ std::vector<std::string> create_statements(int zone, bool northern, std::string_
           quote("WGS 84 / UTM zone " + std::to_string(zone) + (northern ? "N" : "S")) + ", " + srs +
           ", 'EPSG', " + srs + ", " + quote(utm_wkt(zone, northern)) + ", NULL)",
       "CREATE TABLE gpkg_contents (table_name TEXT NOT NULL PRIMARY KEY, data_type TEXT NOT NULL, "
-      "identifier TEXT UNIQUE, description TEXT DEFAULT '', last_change DATETIME NOT NULL, "
+      "identifier TEXT UNIQUE, description TEXT DEFAULT '', last_change DATETIME NOT NULL "
+      "DEFAULT (strftime('%Y-%m-%dT%H:%M:%fZ','now')), "
       "min_x DOUBLE, min_y DOUBLE, max_x DOUBLE, max_y DOUBLE, srs_id INTEGER, CONSTRAINT "
       "fk_gc_r_srs_id FOREIGN KEY (srs_id) REFERENCES gpkg_spatial_ref_sys(srs_id))",
       "CREATE TABLE gpkg_geometry_columns (table_name TEXT NOT NULL, column_name TEXT NOT NULL, "
@@ -218,8 +219,11 @@ std::vector<std::string> create_statements(int zone, bool northern, std::string_
       "NULL, definition TEXT NOT NULL, scope TEXT NOT NULL, CONSTRAINT ge_tce UNIQUE "
       "(table_name, column_name, extension_name))",
       // roadcross tables: the metadata here, the feature tables appended below.
+      // GeoPackage wants an INTEGER primary key on every attributes table (Req 119); readers
+      // look rows up by key, which stays unique.
       "CREATE TABLE " + std::string(kMetadataTable) +
-          " (key TEXT PRIMARY KEY NOT NULL, value TEXT NOT NULL)",
+          " (id INTEGER PRIMARY KEY NOT NULL, key TEXT NOT NULL UNIQUE, value TEXT "
+          "NOT NULL)",
       "INSERT INTO gpkg_contents (table_name, data_type, identifier, description, last_change) "
       "VALUES (" +
           quote(kMetadataTable) +

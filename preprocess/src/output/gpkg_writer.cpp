@@ -448,7 +448,7 @@ void GeoPackageWriter::write_rows_and_metadata(const DatabaseContents& contents,
   for (const std::string& statement : schema::rtree_trigger_statements()) db.exec(statement);
 
   auto insert_meta =
-      db.prepare("INSERT INTO " + std::string(schema::kMetadataTable) + " VALUES (?, ?)");
+      db.prepare("INSERT INTO " + std::string(schema::kMetadataTable) + " (key, value) VALUES (?, ?)");
   auto put = [&](std::string_view key, const std::string& value) {
     insert_meta.bind(1, key);
     insert_meta.bind(2, value);
