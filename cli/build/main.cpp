@@ -8,12 +8,13 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "cli_conventions.hpp"
 #include "roadcross/preprocess/build.hpp"
-#include "roadcross/preprocess/terrain/elevation_input.hpp"
 #include "roadcross/preprocess/common/errors.hpp"
 #include "roadcross/preprocess/common/interrupt.hpp"
-#include "roadcross/preprocess/parameter_file.hpp"
 #include "roadcross/preprocess/common/progress.hpp"
+#include "roadcross/preprocess/parameter_file.hpp"
+#include "roadcross/preprocess/terrain/elevation_input.hpp"
 #include "roadcross/version.hpp"
 
 namespace rp = roadcross::preprocess;
@@ -131,7 +132,11 @@ int main(int argc, char** argv) {
   app.add_flag("-q,--quiet", quiet, "no progress output and no summary");
   bool json = false;
   app.add_flag("--json", json, "print the final summary as JSON on stdout");
-  CLI11_PARSE(app, argc, argv);
+  if (const std::optional<int> status =
+          roadcross::cli::parse_command_line(app, argc, argv, "roadcross-build")) {
+    return *status;
+  }
+  using roadcross::cli::print_error;
   try {
     if (!config_path.empty()) apply_config_file(app, config_path, options.parameters);
     if (print_config) {
@@ -140,8 +145,9 @@ int main(int argc, char** argv) {
       return 0;
     }
   } catch (const rp::ParameterError& e) {
-    std::cerr << "roadcross-build: invalid parameter: " << e.what() << "\n";
-    return 2;
+    print_error("roadcross-build", std::string("invalid parameter: ") + e.what(),
+                "invalid_parameter");
+    return roadcross::cli::kUsageExitStatus;
   }
 
   for (const std::string& path : elevation_paths) {
@@ -174,10 +180,11 @@ int main(int argc, char** argv) {
     }
     return 0;
   } catch (const rp::ParameterError& e) {
-    std::cerr << "roadcross-build: invalid parameter: " << e.what() << "\n";
-    return 2;
+    print_error("roadcross-build", std::string("invalid parameter: ") + e.what(),
+                "invalid_parameter");
+    return roadcross::cli::kUsageExitStatus;
   } catch (const std::exception& e) {
-    std::cerr << "roadcross-build: error: " << e.what() << "\n";
+    print_error("roadcross-build", std::string("error: ") + e.what(), "error");
     return 1;
   }
 }

@@ -35,14 +35,19 @@ int AssessCommand::run() {
   std::optional<Map> map = open_map_or_report(query_.db_path);
   if (!map) return 1;
   const Result<Assessment> result = map->assess(query_.position(), options_);
-  if (!result.ok()) {
-    std::cerr << "roadcross: " << result.status.message << "\n";
-    return 1;
-  }
+  if (!result.ok()) return query_.report_error(*map, result.status);
   const Assessment& a = *result;
   if (query_.json) {
-    std::cout << assessment_json(a).dump(2) << "\n";
+    nlohmann::ordered_json out = assessment_json(a, map->info().zone);
+    if (!a.valid) {
+      if (const auto hint = query_.swapped_lat_lon_hint(*map)) out["hint"] = *hint;
+    }
+    std::cout << out.dump(2) << "\n";
     return 0;
+  }
+  if (!a.valid) {
+    if (const auto hint = query_.swapped_lat_lon_hint(*map))
+      std::fprintf(stderr, "roadcross: note: %s\n", hint->c_str());
   }
   const std::string name = a.road.name.empty() ? "(unnamed)" : a.road.name;
   std::printf("%s\n", a.suitable ? "SUITABLE place to cross"

@@ -20,13 +20,14 @@ Position position_of(const nlohmann::json& request) {
 }
 
 template <typename T, typename ToJson>
-nlohmann::ordered_json answer(const Result<T>& result, ToJson&& to_json) {
+nlohmann::ordered_json answer(const Result<T>& result, ToJson&& to_json, const Map& map) {
   nlohmann::ordered_json out;
   out["ok"] = result.ok();
   if (result.ok()) {
-    out["result"] = to_json(*result);
+    out["result"] = to_json(*result, map.info().zone);
   } else {
     out["error"] = result.status.message;
+    out["code"] = to_string(result.status.code);
   }
   return out;
 }
@@ -38,14 +39,14 @@ nlohmann::ordered_json handle(Map& map, const nlohmann::json& request) {
   if (request.contains("threshold")) assess.threshold = request.at("threshold").get<double>();
   if (request.contains("valid_distance_m"))
     assess.valid_distance_m = request.at("valid_distance_m").get<double>();
-  if (op == "assess") return answer(map.assess(position, assess), assessment_json);
-  if (op == "heading") return answer(map.road_heading(position), heading_json);
-  if (op == "nearest") return answer(map.nearest(position), road_json);
+  if (op == "assess") return answer(map.assess(position, assess), assessment_json, map);
+  if (op == "heading") return answer(map.road_heading(position), heading_json, map);
+  if (op == "nearest") return answer(map.nearest(position), road_json, map);
   if (op == "better") {
     BetterPlaceOptions options;
     options.assess = assess;
     options.search_radius_m = request.value("radius_m", options.search_radius_m);
-    return answer(map.better_place(position, options), better_places_json);
+    return answer(map.better_place(position, options), better_places_json, map);
   }
   throw std::invalid_argument("unknown op '" + op + "' (assess, better, heading, nearest)");
 }
@@ -73,6 +74,7 @@ int BatchCommand::run() {
     } catch (const std::exception& e) {
       out["ok"] = false;
       out["error"] = std::string("line ") + std::to_string(number) + ": " + e.what();
+      out["code"] = "invalid_request";
     }
     if (!out["ok"].get<bool>()) ++failures;
     nlohmann::ordered_json numbered;

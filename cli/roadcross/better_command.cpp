@@ -24,12 +24,9 @@ int BetterCommand::run() {
   std::optional<Map> map = open_map_or_report(query_.db_path);
   if (!map) return 1;
   const Result<BetterPlaces> result = map->better_place(query_.position(), options_);
-  if (!result.ok()) {
-    std::cerr << "roadcross: " << result.status.message << "\n";
-    return 1;
-  }
+  if (!result.ok()) return query_.report_error(*map, result.status);
   if (query_.json) {
-    const nlohmann::ordered_json out = better_places_json(*result);
+    const nlohmann::ordered_json out = better_places_json(*result, map->info().zone);
     std::cout << out.dump(2) << "\n";
     return 0;
   }

@@ -18,9 +18,9 @@ int HeadingCommand::run() {
   std::optional<Map> map = open_map_or_report(query_.db_path);
   if (!map) return 1;
   const Result<RoadHeading> heading = map->road_heading(query_.position(), max_distance_m_);
-  if (!heading.ok()) return report_error(heading.status);
+  if (!heading.ok()) return query_.report_error(*map, heading.status);
   if (query_.json) {
-    const nlohmann::ordered_json out = heading_json(*heading);
+    const nlohmann::ordered_json out = heading_json(*heading, map->info().zone);
     std::cout << out.dump(2) << "\n";
     return 0;
   }

@@ -18,9 +18,9 @@ int NearestCommand::run() {
   std::optional<Map> map = open_map_or_report(query_.db_path);
   if (!map) return 1;
   const Result<NearestRoad> road = map->nearest(query_.position(), max_distance_m_);
-  if (!road.ok()) return report_error(road.status);
+  if (!road.ok()) return query_.report_error(*map, road.status);
   if (query_.json) {
-    std::cout << road_json(*road).dump(2) << "\n";
+    std::cout << road_json(*road, map->info().zone).dump(2) << "\n";
     return 0;
   }
   std::printf("road      %s\n", road_label(*road).c_str());
