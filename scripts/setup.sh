@@ -8,6 +8,7 @@ packages=(
   # preprocess (roadcross-build)
   libosmium2-dev libprotozero-dev libbz2-dev libexpat1-dev zlib1g-dev liblz4-dev
   libgdal-dev libcgal-dev libeigen3-dev libboost-dev
+  libssl-dev  # OpenSSL libcrypto: SHA-256 of the input files
   # runtime
   libsqlite3-dev libgeographiclib-dev
   # Python bindings (built for Debian's /usr/bin/python3)

@@ -1,7 +1,7 @@
 // The subcommands that draw a map (render, export, view), run by the program roadcross-viz
-// (viz_main.cpp): they link Cairo and GDAL through roadcross::viz, whose loading alone took
-// ~80 ms of every `roadcross` call. `roadcross render ...` hands its arguments on to
-// `roadcross-viz render ...` (main.cpp). Full build only.
+// (viz_main.cpp): they link Cairo and GDAL through roadcross::viz, whose loading would slow
+// every `roadcross` call (docs/performance.md, "CLI start-up"). `roadcross render ...` hands its
+// arguments on to `roadcross-viz render ...` (main.cpp). Full build only.
 #pragma once
 
 #include <optional>

@@ -14,20 +14,20 @@
 #include <optional>
 #include <utility>
 
-#include "roadcross/preprocess/context/context.hpp"
 #include "roadcross/preprocess/common/errors.hpp"
-#include "roadcross/preprocess/geometry/geometry_cost.hpp"
-#include "roadcross/preprocess/output/gpkg_writer.hpp"
+#include "roadcross/preprocess/common/progress.hpp"
+#include "roadcross/preprocess/common/sha256.hpp"
+#include "roadcross/preprocess/context/context.hpp"
 #include "roadcross/preprocess/context/osm_tags.hpp"
 #include "roadcross/preprocess/context/overrides.hpp"
-#include "roadcross/preprocess/common/progress.hpp"
-#include "roadcross/preprocess/rank.hpp"
-#include "roadcross/preprocess/osm/road_network.hpp"
+#include "roadcross/preprocess/geometry/geometry_cost.hpp"
 #include "roadcross/preprocess/graph/segments.hpp"
-#include "roadcross/preprocess/common/sha256.hpp"
+#include "roadcross/preprocess/osm/road_network.hpp"
+#include "roadcross/preprocess/output/gpkg_writer.hpp"
+#include "roadcross/preprocess/output/terrain_coverage.hpp"
+#include "roadcross/preprocess/rank.hpp"
 #include "roadcross/preprocess/sight/sight.hpp"
 #include "roadcross/preprocess/terrain/terrain.hpp"
-#include "roadcross/preprocess/output/terrain_coverage.hpp"
 #include "roadcross/schema/schema.hpp"
 
 namespace roadcross::preprocess {
@@ -62,16 +62,10 @@ std::string base_name(const std::string& path) {
 /// stored terrain grid. The grid covers the roads' box plus the largest TPI radius, and every
 /// sight line joins two points within half a road width of that box: the whole line is on it.
 std::vector<std::string> run_sight_stage(const BuildOptions& options, RoadGraph& graph,
-                                         const Grid* terrain, ObstacleReader& reader,
-                                         Progress& progress) {
+                                         const RoadBounds& roads, const Grid* terrain,
+                                         ObstacleReader& reader, Progress& progress) {
   const SightParameters& p = options.parameters.sight;
-  PlanePoint min{1e300, 1e300}, max{-1e300, -1e300};
-  for (const Segment& s : graph.segments) {
-    for (const PlanePoint& q : graph.line(s)) {
-      min = {std::min(min.x, q.x), std::min(min.y, q.y)};
-      max = {std::max(max.x, q.x), std::max(max.y, q.y)};
-    }
-  }
+  const PlanePoint min{roads.min_e, roads.min_n}, max{roads.max_e, roads.max_n};
   constexpr double kReachM = 100.0;  // well beyond half of any carriageway's width
   progress.start_stage("buildings and walls");
   Obstacles obstacles = reader.take_edges(graph.zone, min, max, kReachM);
@@ -132,191 +126,180 @@ InputHashes hash_inputs(const BuildOptions& options) {
   return hashes;
 }
 
-}  // namespace
+/// What the stages hand on to each other.
+struct Pipeline {
+  RoadNetwork network;
+  RoadGraph graph;
+  RoadBounds roads;
+  ContextReport context;
+  std::vector<Override> overrides;
+  Parameters parameters;  ///< as given, with the terrain cell size chosen
+  CellSizeChoice cell;
+  TerrainReport terrain;
+  Grid terrain_grid{GridSpec{}};
+  std::vector<std::string> sight_notes;
+  std::size_t road_ways = 0;
+  std::size_t junctions = 0;
+  std::string last_change;
+};
 
-BuildSummary run_build(const BuildOptions& options) {
-  const auto started = std::chrono::steady_clock::now();
+void check_options(const BuildOptions& options) {
   options.parameters.validate();
   if (options.osm_path.empty()) throw ParameterError("an OSM input file is required (--osm)");
   if (options.output_path.empty()) throw ParameterError("an output path is required (-o)");
-
   if (!options.country.empty() && !has_implicit_speeds(options.country)) {
     throw ParameterError("--country " + options.country +
                          ": no implicit speed limits for it (known: CZ, SK, DE, AT, PL, FR, MC, "
                          "default)");
   }
-  // Overrides are read before the long work so that a bad file fails at once.
-  const std::vector<Override> overrides = options.overrides_path.empty()
-                                              ? std::vector<Override>{}
-                                              : read_overrides(options.overrides_path);
+}
 
-  // Create the temporary output first: an unwritable target fails before minutes of work.
-  AtomicOutput output(options.output_path);
-  Progress progress(options.show_progress);
-
-  // The sight stage's buildings and walls are read in the same two passes as the roads.
-  const bool with_sight = options.parameters.sight.enabled != 0.0;
-  ObstacleReader obstacle_reader(options.parameters.sight);
-  RoadNetwork network =
-      read_road_network(options.osm_path, progress, with_sight ? &obstacle_reader : nullptr);
-  // Hashing the inputs (~1 s per 300 MB) runs on the second core while the single-threaded
-  // stages run on the first. (A std::async future waits for the hash if a stage throws.)
-  std::future<InputHashes> input_hashes =
-      std::async(std::launch::async, hash_inputs, std::cref(options));
-
+void segment_stage(const BuildOptions& options, Pipeline& p, Progress& progress) {
   progress.start_stage("segmenting");
-  const geo::UtmZone zone = choose_utm_zone(network);
-  RoadGraph graph =
-      build_road_graph(network, zone, options.parameters.segments.max_segment_length_m);
-  if (graph.segments.empty()) {
+  const geo::UtmZone zone = choose_utm_zone(p.network);
+  p.graph = build_road_graph(p.network, zone, options.parameters.segments.max_segment_length_m);
+  if (p.graph.segments.empty()) {
     throw InputError(options.osm_path, "no road way has two nodes with locations in the file");
   }
-  progress.finish_stage(std::to_string(graph.segments.size()) + " segments in UTM zone " +
+  p.roads = road_bounds(p.graph);
+  progress.finish_stage(std::to_string(p.graph.segments.size()) + " segments in UTM zone " +
                         std::to_string(zone.zone) + (zone.northern ? "N" : "S"));
-  const std::string last_change = iso8601_utc(network.newest_timestamp_s);
+  p.last_change = iso8601_utc(p.network.newest_timestamp_s);
+}
 
-  // The context stage's tag and crossing part reads only what segmenting set, so it runs first:
-  // the ways, their tags and the node locations are then freed before the cost stages and the
-  // writing add to the peak memory.
+/// The context stage's tag and crossing part reads only what segmenting set, so it runs first:
+/// the ways, their tags and the node locations are then freed before the cost stages and the
+/// writing add to the peak memory.
+void context_tags_stage(const BuildOptions& options, Pipeline& p, Progress& progress) {
   progress.start_stage("context");
-  ContextReport context =
-      compute_way_context(graph, network, options.parameters.context, options.country);
-  progress.finish_stage(std::to_string(context.crossings.size()) + " crossings");
-  const std::size_t road_ways = network.ways.size();
-  network = RoadNetwork{};
+  p.context = compute_way_context(p.graph, p.network, options.parameters.context, options.country);
+  progress.finish_stage(std::to_string(p.context.crossings.size()) + " crossings");
+  p.road_ways = p.network.ways.size();
+  p.network = RoadNetwork{};
   // The crossings search above was the last reader of the pieces' node ids.
-  graph.free_piece_node_ids();
+  p.graph.free_piece_node_ids();
   return_freed_memory();
+}
 
-  // The segments' spatial index needs only their lines, which are final from here on: it is
-  // written on the second core while the cost stages (single-threaded, most of them) run.
-  // Started only now, with the network freed: its working set and SQLite's page cache would
-  // otherwise add to the network's memory. Declared after `graph` and the writer, so that a
-  // stage's exception waits for it first.
-  std::optional<GeoPackageWriter> writer;
-  naming_the_output(options, [&] { writer.emplace(output.temp_path(), zone, last_change); });
-  std::future<void> segment_index =
-      std::async(std::launch::async, [&] { writer->write_segment_index(graph); });
-
-  // Cost stages, in this order; each fills its Segment fields and appends its reason codes:
-  // (context's tag part above, no reasons), geometry (class, junctions, curvature), terrain,
-  // context's scores, overrides and BUSY_ROAD, then rank/score.
+void geometry_stage(const BuildOptions& options, Pipeline& p, Progress& progress) {
   progress.start_stage("geometry cost");
-  compute_geometry_costs(graph, options.parameters.geometry);
+  compute_geometry_costs(p.graph, options.parameters.geometry);
   // The node degrees were the geometry stage's (junctions); counted for the summary and freed
   // before the terrain stage, whose tiles and stored grid make the DEM build's peak.
-  std::size_t junctions = 0;
-  for (const auto& [node, degree] : graph.degree) junctions += degree >= 3 ? 1 : 0;
-  graph.degree = {};
+  for (const auto& [node, degree] : p.graph.degree) p.junctions += degree >= 3 ? 1 : 0;
+  p.graph.degree = {};
   return_freed_memory();
   progress.finish_stage("class, junctions, curvature");
-  const bool has_elevation = !options.elevation.sources.empty();
-  // The terrain cell size, when not given, follows the elevation inputs (their zone and the
-  // roads are known only now); the DB's metadata records the size used. Without elevation it
-  // is unused and recorded as the XYZ default.
-  Parameters parameters = options.parameters;
-  const CellSizeChoice cell =
-      has_elevation
-          ? choose_cell_size(graph, options.elevation, parameters.terrain)
-          : CellSizeChoice{parameters.terrain.cell_size_m > 0.0 ? parameters.terrain.cell_size_m
-                                                                : kFinestAutomaticCellM,
-                           "no elevation input"};
-  parameters.terrain.cell_size_m = cell.cell_m;
-  parameters.validate();
-  TerrainReport terrain;
-  Grid terrain_grid(GridSpec{});
-  if (has_elevation) {
-    // The R*Tree (its sort keys, ~60 MiB at 200x Monaco) finishes before the terrain stage
-    // adds its grids and both cores' tiles: it has mostly finished beside the geometry stage,
-    // and overlapping the two would add their peaks. (Its errors come at get(), below.)
-    segment_index.wait();
-    terrain =
-        compute_terrain(graph, options.elevation, parameters.terrain, progress, &terrain_grid);
-    terrain.cell_size_source = cell.source;
-  } else {
-    for (Segment& s : graph.segments) s.reasons.add("NO_ELEVATION");
-  }
-  // The crossing distances (a search over the whole graph, so run once the network is freed)
-  // pick the context scores; the overrides change any cost, so they (and BUSY_ROAD after them)
-  // come after the other stages.
-  progress.start_stage("context: crossing distances, overrides");
-  finish_context(graph, options.parameters.context, overrides, context);
-  progress.finish_stage(std::to_string(context.busy_segments) + " BUSY_ROAD segments");
-  std::vector<std::string> sight_notes;
-  if (with_sight) {
-    sight_notes = run_sight_stage(options, graph, has_elevation ? &terrain_grid : nullptr,
-                                  obstacle_reader, progress);
-  }
-  compute_ranks(graph, options.parameters.rank);
-  apply_sight_rank_penalty(graph, options.parameters.sight);
+}
 
-  DatabaseContents contents;
-  contents.graph = &graph;
-  contents.crossings = &context.crossings;
-  contents.last_change = last_change;
-  contents.metadata = parameters.as_metadata();
-  contents.metadata.emplace_back(schema::meta::kToolVersion, options.tool_version);
-  contents.metadata.emplace_back(schema::meta::kAttribution,
-                                 "Map data (c) OpenStreetMap contributors, ODbL 1.0");
-  // Inputs are recorded by file name and hash, not by absolute path, so that the same inputs
-  // give the same bytes wherever they are built.
+/// `segment_index`: the R*Tree being written beside the cost stages; it finishes before the
+/// terrain's grids and both cores' tiles are allocated (overlapping the two would add their
+/// peaks; its errors come at get(), later).
+void terrain_stage(const BuildOptions& options, Pipeline& p, std::future<void>& segment_index,
+                   Progress& progress) {
+  // The cell size follows the elevation inputs when not given; their zone and the roads are
+  // known only now. The DB's metadata records the size used.
+  p.parameters = options.parameters;
+  p.cell = choose_cell_size(p.graph.zone, p.roads, options.elevation, p.parameters.terrain);
+  p.parameters.terrain.cell_size_m = p.cell.cell_m;
+  p.parameters.validate();
+  if (options.elevation.sources.empty()) {
+    mark_without_elevation(p.graph);
+    return;
+  }
+  segment_index.wait();
+  p.terrain = compute_terrain(p.graph, p.roads, options.elevation, p.cell, p.parameters.terrain,
+                              progress, &p.terrain_grid);
+}
+
+/// The crossing distances (a search over the whole graph, so run once the network is freed) pick
+/// the context scores; the overrides change any cost, so they (and BUSY_ROAD after them) come
+/// after the other stages.
+void context_scores_stage(const BuildOptions& options, Pipeline& p, Progress& progress) {
+  progress.start_stage("context: crossing distances, overrides");
+  finish_context(p.graph, options.parameters.context, p.overrides, p.context);
+  progress.finish_stage(std::to_string(p.context.busy_segments) + " BUSY_ROAD segments");
+}
+
+/// The metadata rows: parameters, tool, attribution, inputs by file name and hash (not by
+/// absolute path, so that the same inputs give the same bytes wherever they are built).
+std::vector<std::pair<std::string, std::string>> metadata_rows(const BuildOptions& options,
+                                                               const Pipeline& p,
+                                                               const InputHashes& hashes) {
+  std::vector<std::pair<std::string, std::string>> rows = p.parameters.as_metadata();
+  rows.emplace_back(schema::meta::kToolVersion, options.tool_version);
+  rows.emplace_back(schema::meta::kAttribution,
+                    "Map data (c) OpenStreetMap contributors, ODbL 1.0");
   const std::string input = std::string(schema::meta::kInputPrefix) + "0.";
-  contents.metadata.emplace_back(input + "kind", "osm");
-  contents.metadata.emplace_back(input + "file", base_name(options.osm_path));
-  const InputHashes hashes = input_hashes.get();
-  contents.metadata.emplace_back(input + "sha256", hashes.osm);
+  rows.emplace_back(input + "kind", "osm");
+  rows.emplace_back(input + "file", base_name(options.osm_path));
+  rows.emplace_back(input + "sha256", hashes.osm);
   for (std::size_t i = 0; i < options.elevation.sources.size(); ++i) {
     const ElevationSource& source = options.elevation.sources[i];
     const std::string key = std::string(schema::meta::kInputPrefix) + std::to_string(i + 1) + ".";
     const bool xyz = source.kind == ElevationKind::xyz;
-    contents.metadata.emplace_back(key + "kind", xyz ? "elevation-xyz" : "elevation-raster");
-    contents.metadata.emplace_back(key + "file", base_name(source.path));
-    contents.metadata.emplace_back(key + "sha256", hashes.elevation[i]);
-    if (xyz) contents.metadata.emplace_back(key + "crs", terrain.xyz_crs);
+    rows.emplace_back(key + "kind", xyz ? "elevation-xyz" : "elevation-raster");
+    rows.emplace_back(key + "file", base_name(source.path));
+    rows.emplace_back(key + "sha256", hashes.elevation[i]);
+    if (xyz) rows.emplace_back(key + "crs", p.terrain.xyz_crs);
   }
-  contents.metadata.emplace_back(schema::meta::kContextCountry, context.country.country);
-  contents.metadata.emplace_back(schema::meta::kCrossingCount,
-                                 std::to_string(context.crossings.size()));
+  rows.emplace_back(schema::meta::kContextCountry, p.context.country.country);
+  rows.emplace_back(schema::meta::kCrossingCount, std::to_string(p.context.crossings.size()));
   if (!options.overrides_path.empty()) {
     // The next free input number (other inputs, e.g. elevation, may be recorded before).
     std::size_t n = 0;
-    for (const auto& [key, value] : contents.metadata) n += key.ends_with(".kind") ? 1 : 0;
+    for (const auto& [key, value] : rows) n += key.ends_with(".kind") ? 1 : 0;
     const std::string overrides_input =
         std::string(schema::meta::kInputPrefix) + std::to_string(n) + ".";
-    contents.metadata.emplace_back(overrides_input + "kind", "overrides");
-    contents.metadata.emplace_back(overrides_input + "file", base_name(options.overrides_path));
-    contents.metadata.emplace_back(overrides_input + "sha256", hashes.overrides);
+    rows.emplace_back(overrides_input + "kind", "overrides");
+    rows.emplace_back(overrides_input + "file", base_name(options.overrides_path));
+    rows.emplace_back(overrides_input + "sha256", hashes.overrides);
   }
+  return rows;
+}
+
+void write_stage(const BuildOptions& options, Pipeline& p, const InputHashes& hashes,
+                 GeoPackageWriter& writer, std::future<void>& segment_index,
+                 const AtomicOutput& output, Progress& progress) {
+  DatabaseContents contents;
+  contents.graph = &p.graph;
+  contents.crossings = &p.context.crossings;
+  contents.last_change = p.last_change;
+  contents.metadata = metadata_rows(options, p, hashes);
   progress.start_stage("spatial index");
   naming_the_output(options, [&] { segment_index.get(); });
-  progress.finish_stage("R*Tree of " + std::to_string(graph.segments.size()) +
+  progress.finish_stage("R*Tree of " + std::to_string(p.graph.segments.size()) +
                         " segments (written during the cost stages)");
   naming_the_output(options, [&] {
-    writer->finish(contents, progress);
-    if (has_elevation) {
+    writer.finish(contents, progress);
+    if (!options.elevation.sources.empty()) {
       progress.start_stage("writing the terrain grid");
-      write_terrain_coverage(output.temp_path(), std::move(terrain_grid), contents.last_change);
+      write_terrain_coverage(output.temp_path(), std::move(p.terrain_grid), contents.last_change);
       progress.finish_stage(std::string("table ") + kTerrainTable);
     }
   });
-  output.commit();
+}
 
+BuildSummary summarize(const BuildOptions& options, const Pipeline& p, Progress& progress) {
+  const RoadGraph& graph = p.graph;
+  const bool has_elevation = !options.elevation.sources.empty();
   BuildSummary summary;
-  summary.zone = zone;
-  summary.road_ways = road_ways;
+  summary.zone = graph.zone;
+  summary.road_ways = p.road_ways;
   summary.pieces = graph.pieces.size();
   summary.segments = graph.segments.size();
-  summary.junctions = junctions;
+  summary.junctions = p.junctions;
   for (const Segment& s : graph.segments) summary.total_length_m += graph.length_m(s);
   summary.missing_node_refs = graph.dropped_node_refs;
-  summary.crossings = context.crossings.size();
-  summary.notes = context.summary_lines();
-  summary.notes.insert(summary.notes.end(), sight_notes.begin(), sight_notes.end());
+  summary.crossings = p.context.crossings.size();
+  summary.notes = p.context.summary_lines();
+  summary.notes.insert(summary.notes.end(), p.sight_notes.begin(), p.sight_notes.end());
   summary.has_elevation = has_elevation;
-  summary.terrain = terrain;
+  summary.terrain = p.terrain;
   if (has_elevation) {
-    summary.notes.push_back("terrain grid cell size: " + format_number(cell.cell_m) + " m (" +
-                            cell.source + ")");
+    const TerrainReport& terrain = p.terrain;
+    summary.notes.push_back("terrain grid cell size: " + format_number(p.cell.cell_m) + " m (" +
+                            p.cell.source + ")");
     summary.notes.push_back(std::to_string(terrain.segments_without_elevation) + " of " +
                             std::to_string(graph.segments.size()) +
                             " segments have no elevation (NO_ELEVATION; rank without the term)");
@@ -331,11 +314,64 @@ BuildSummary run_build(const BuildOptions& options) {
   } else {
     summary.notes.push_back("no elevation input (--elevation): every segment is NO_ELEVATION");
   }
-  summary.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   summary.stages = progress.stages();
   struct rusage usage {};
   if (::getrusage(RUSAGE_SELF, &usage) == 0) summary.peak_rss_kib = usage.ru_maxrss;
+  return summary;
+}
+
+}  // namespace
+
+BuildSummary run_build(const BuildOptions& options) {
+  const auto started = std::chrono::steady_clock::now();
+  check_options(options);
+  Pipeline p;
+  // Overrides are read before the long work so that a bad file fails at once.
+  if (!options.overrides_path.empty()) p.overrides = read_overrides(options.overrides_path);
+  // Create the temporary output first: an unwritable target fails before minutes of work.
+  AtomicOutput output(options.output_path);
+  Progress progress(options.show_progress);
+
+  // The sight stage's buildings and walls are read in the same two passes as the roads.
+  const bool with_sight = options.parameters.sight.enabled != 0.0;
+  ObstacleReader obstacle_reader(options.parameters.sight);
+  p.network =
+      read_road_network(options.osm_path, progress, with_sight ? &obstacle_reader : nullptr);
+  // Hashing the inputs runs on the second core while the single-threaded stages run on the
+  // first. (A std::async future waits for the hash if a stage throws.)
+  std::future<InputHashes> input_hashes =
+      std::async(std::launch::async, hash_inputs, std::cref(options));
+  segment_stage(options, p, progress);
+  context_tags_stage(options, p, progress);
+
+  // The segments' spatial index needs only their lines, which are final from here on: it is
+  // written on the second core while the cost stages run. Started only now, with the network
+  // freed: its working set and SQLite's page cache would otherwise add to the network's memory.
+  // Declared after the pipeline and the writer, so that a stage's exception waits for it first.
+  std::optional<GeoPackageWriter> writer;
+  naming_the_output(options,
+                    [&] { writer.emplace(output.temp_path(), p.graph.zone, p.last_change); });
+  std::future<void> segment_index =
+      std::async(std::launch::async, [&] { writer->write_segment_index(p.graph); });
+
+  // The cost stages, in this order; each fills its Segment fields and appends its reasons.
+  geometry_stage(options, p, progress);
+  terrain_stage(options, p, segment_index, progress);
+  context_scores_stage(options, p, progress);
+  if (with_sight) {
+    p.sight_notes = run_sight_stage(options, p.graph, p.roads,
+                                    options.elevation.sources.empty() ? nullptr : &p.terrain_grid,
+                                    obstacle_reader, progress);
+  }
+  compute_ranks(p.graph, options.parameters.rank);
+  apply_sight_rank_penalty(p.graph, options.parameters.sight);
+
+  write_stage(options, p, input_hashes.get(), *writer, segment_index, output, progress);
+  output.commit();
+
+  BuildSummary summary = summarize(options, p, progress);
+  summary.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return summary;
 }
 

@@ -4,38 +4,58 @@
 #include <string_view>
 
 #include "map_impl.hpp"
+#include "roadcross/schema/reasons.hpp"
 
 namespace roadcross {
 namespace detail {
 
-namespace {
-// Columns read by assess, in this order (see schema/src/schema.cpp for meanings and units):
-// the segment's identity (as nearest() reads it), then its cost terms.
-constexpr const char* kAssessColumns =
-    "osm_way_id, highway, name, length_m, class_cost, junction_distance_m, radius_m, "
-    "curvature_level, curvature_cost, elevation_cost, "
-    "landform, maxspeed_kmh, lanes, width_m, context_score, crossing_distance_m, rank, score, "
-    "reasons, tunnel, override_note, override_no_crossing, override_force_suitable";
-// Schema version 2 added these; a version 1 DB reads NULLs in their place.
-constexpr const char* kSightColumns =
-    ", sight_forward_m, sight_backward_m, sight_min_m, required_sight_m";
-constexpr const char* kNoSightColumns = ", NULL, NULL, NULL, NULL";
-}  // namespace
+using C = schema::SegmentColumn;
 
-Queries::Queries(sqlite::Database& db, bool has_sight)
+// What assess reads of a segment: its identity (as nearest() reads it), then its cost terms.
+const schema::SegmentSelection kAssessColumns = {C::osm_way_id,
+                                                 C::highway,
+                                                 C::name,
+                                                 C::length_m,
+                                                 C::class_cost,
+                                                 C::junction_distance_m,
+                                                 C::radius_m,
+                                                 C::curvature_level,
+                                                 C::curvature_cost,
+                                                 C::elevation_cost,
+                                                 C::landform,
+                                                 C::maxspeed_kmh,
+                                                 C::lanes,
+                                                 C::width_m,
+                                                 C::context_score,
+                                                 C::crossing_distance_m,
+                                                 C::rank,
+                                                 C::score,
+                                                 C::reasons,
+                                                 C::tunnel,
+                                                 C::override_note,
+                                                 C::override_no_crossing,
+                                                 C::override_force_suitable,
+                                                 C::sight_forward_m,
+                                                 C::sight_backward_m,
+                                                 C::sight_min_m,
+                                                 C::required_sight_m};
+
+const schema::SegmentSelection kIdentityColumns = {C::osm_way_id, C::highway, C::name, C::length_m};
+const schema::SegmentSelection kEndNodeColumns({C::from_node_id, C::to_node_id}, 2);
+
+Queries::Queries(sqlite::Database& db, int schema_version)
     : candidates(db.prepare("SELECT s.fid, s.geom FROM " + std::string(schema::kSegmentsRtree) +
                             " r JOIN " + std::string(schema::kSegmentsTable) +
                             " s ON s.fid = r.id WHERE r.maxx >= ?1 AND r.minx <= ?2 AND "
                             "r.maxy >= ?3 AND r.miny <= ?4")),
-      attributes(db.prepare("SELECT osm_way_id, highway, name, length_m FROM " +
+      attributes(db.prepare("SELECT " + kIdentityColumns.sql("", schema_version) + " FROM " +
                             std::string(schema::kSegmentsTable) + " WHERE fid = ?1")),
-      assessment(db.prepare(std::string("SELECT ") + kAssessColumns +
-                            (has_sight ? kSightColumns : kNoSightColumns) + " FROM " +
+      assessment(db.prepare("SELECT " + kAssessColumns.sql("", schema_version) + " FROM " +
                             std::string(schema::kSegmentsTable) + " WHERE fid = ?1")),
       rtree_holder(
           db.prepare("SELECT id FROM " + std::string(schema::kSegmentsRtree) + " LIMIT 1")),
-      segments_at(db.prepare("SELECT s.fid, s.from_node_id, s.to_node_id, s.geom FROM " +
-                             std::string(schema::kSegmentsRtree) + " r JOIN " +
+      segments_at(db.prepare("SELECT s.fid, s.geom, " + kEndNodeColumns.sql("s", schema_version) +
+                             " FROM " + std::string(schema::kSegmentsRtree) + " r JOIN " +
                              std::string(schema::kSegmentsTable) +
                              " s ON s.fid = r.id WHERE r.maxx >= ?1 AND r.minx <= ?2 AND "
                              "r.maxy >= ?3 AND r.miny <= ?4")) {
@@ -48,9 +68,9 @@ Thresholds thresholds_from(const MapInfo& info) {
     char* end = nullptr;
     const double number = std::strtod(value.c_str(), &end);
     if (end == value.c_str()) continue;
-    if (key == "param.suitability.valid_distance_m") t.valid_distance_m = number;
-    if (key == "param.suitability.threshold") t.threshold = number;
-    if (key == "param.sight.limited_visibility_unsuitable")
+    if (key == schema::meta::kValidDistanceParam) t.valid_distance_m = number;
+    if (key == schema::meta::kThresholdParam) t.threshold = number;
+    if (key == schema::meta::kLimitedVisibilityUnsuitableParam)
       t.limited_visibility_unsuitable = number != 0.0;
   }
   return t;
@@ -59,30 +79,24 @@ Thresholds thresholds_from(const MapInfo& info) {
 }  // namespace detail
 
 const char* describe_reason(const std::string& code) noexcept {
-  if (code == "TOO_FAR_FROM_ROAD") return "too far from the road centreline to be at the kerb";
-  if (code == "NEAR_JUNCTION")
-    return "close to a junction, where traffic turns in from several sides";
-  if (code == "SHARP_BEND") return "the road bends sharply here: approaching cars are seen late";
-  if (code == "CREST_OR_DIP") return "a crest or dip hides approaching cars";
-  if (code == "BUSY_ROAD") return "a fast, wide or busy road";
-  if (code == "NOT_CROSSABLE_CLASS") return "a motorway or trunk road: never crossed on foot";
-  if (code == "TUNNEL") return "in a tunnel or under a cover";
-  if (code == "NO_ELEVATION") return "no elevation data here: crests and dips are unknown";
-  if (code == "LOW_SCORE") return "score + context score is below the suitability threshold";
-  if (code == "OVERRIDE") return "an operator override applies";
-  if (code == "LIMITED_VISIBILITY")
-    return "the view along the road is shorter than a crossing needs";
-  return "see docs/cost-model.md";
+  const schema::ReasonSpec* spec = schema::find_reason(code);
+  // The sentences are literals: their views end in a NUL.
+  return spec ? spec->sentence.data() : "see docs/cost-model.md";
 }
 
 namespace {
 
-std::optional<int> optional_int(const sqlite::Statement& row, int i) {
+using C = schema::SegmentColumn;
+using detail::kAssessColumns;
+
+std::optional<int> optional_int(const sqlite::Statement& row, schema::SegmentColumn column) {
+  const int i = kAssessColumns[column];
   if (row.column_is_null(i)) return std::nullopt;
   return static_cast<int>(row.column_int64(i));
 }
 
-std::optional<double> optional_double(const sqlite::Statement& row, int i) {
+std::optional<double> optional_double(const sqlite::Statement& row, schema::SegmentColumn column) {
+  const int i = kAssessColumns[column];
   if (row.column_is_null(i)) return std::nullopt;
   return row.column_double(i);
 }
@@ -118,41 +132,44 @@ Status judge(sqlite::Statement& row, Assessment& a, bool limited_visibility_unsu
     return Status{StatusCode::not_found,
                   "no segment with fid " + std::to_string(a.road.segment_id)};
   }
-  a.road.osm_way_id = row.column_int64(0);
-  a.road.highway = row.column_text_view(1);
-  a.road.name = row.column_text_view(2);
-  a.road.segment_length_m = row.column_double(3);
-  a.class_cost = optional_int(row, 4);
-  a.junction_distance_m = optional_double(row, 5);
-  a.radius_m = optional_double(row, 6);
-  a.curvature_level = optional_int(row, 7);
-  a.curvature_cost = optional_int(row, 8);
-  a.elevation_cost = optional_int(row, 9);
-  if (!row.column_is_null(10)) a.landform.emplace(row.column_text_view(10));
-  a.maxspeed_kmh = optional_double(row, 11);
-  a.lanes = optional_int(row, 12);
-  a.width_m = optional_double(row, 13);
-  a.context_score = optional_int(row, 14);
-  a.crossing_distance_m = optional_double(row, 15);
-  a.rank = optional_int(row, 16);
-  a.score = optional_int(row, 17);
+  const schema::SegmentSelection& at = kAssessColumns;
+  a.road.osm_way_id = row.column_int64(at[C::osm_way_id]);
+  a.road.highway = row.column_text_view(at[C::highway]);
+  a.road.name = row.column_text_view(at[C::name]);
+  a.road.segment_length_m = row.column_double(at[C::length_m]);
+  a.class_cost = optional_int(row, C::class_cost);
+  a.junction_distance_m = optional_double(row, C::junction_distance_m);
+  a.radius_m = optional_double(row, C::radius_m);
+  a.curvature_level = optional_int(row, C::curvature_level);
+  a.curvature_cost = optional_int(row, C::curvature_cost);
+  a.elevation_cost = optional_int(row, C::elevation_cost);
+  if (!row.column_is_null(at[C::landform]))
+    a.landform.emplace(row.column_text_view(at[C::landform]));
+  a.maxspeed_kmh = optional_double(row, C::maxspeed_kmh);
+  a.lanes = optional_int(row, C::lanes);
+  a.width_m = optional_double(row, C::width_m);
+  a.context_score = optional_int(row, C::context_score);
+  a.crossing_distance_m = optional_double(row, C::crossing_distance_m);
+  a.rank = optional_int(row, C::rank);
+  a.score = optional_int(row, C::score);
   // Room for the codes added below (TOO_FAR_FROM_ROAD, NO_ELEVATION, LOW_SCORE, OVERRIDE).
-  split_codes(row.column_text_view(18), a.reasons, 4);
-  a.tunnel = row.column_int64(19) != 0;
-  a.override_note = row.column_text_view(20);
-  const bool no_crossing = row.column_int64(21) != 0;
-  const bool force_suitable = row.column_int64(22) != 0;
-  a.sight_forward_m = optional_double(row, 23);
-  a.sight_backward_m = optional_double(row, 24);
-  a.sight_min_m = optional_double(row, 25);
-  a.required_sight_m = optional_double(row, 26);
+  split_codes(row.column_text_view(at[C::reasons]), a.reasons, 4);
+  a.tunnel = row.column_int64(at[C::tunnel]) != 0;
+  a.override_note = row.column_text_view(at[C::override_note]);
+  const bool no_crossing = row.column_int64(at[C::override_no_crossing]) != 0;
+  const bool force_suitable = row.column_int64(at[C::override_force_suitable]) != 0;
+  a.sight_forward_m = optional_double(row, C::sight_forward_m);
+  a.sight_backward_m = optional_double(row, C::sight_backward_m);
+  a.sight_min_m = optional_double(row, C::sight_min_m);
+  a.required_sight_m = optional_double(row, C::required_sight_m);
   row.reset();
 
   a.valid = a.road.distance_m <= a.valid_distance_m;
   if (!a.valid) a.reasons.insert(a.reasons.begin(), "TOO_FAR_FROM_ROAD");
   if (!a.elevation_cost && !has(a.reasons, "NO_ELEVATION")) a.reasons.emplace_back("NO_ELEVATION");
   const int total = a.score.value_or(0) + a.context_score.value_or(0);
-  const bool forbidden = has(a.reasons, "NOT_CROSSABLE_CLASS") || a.tunnel || no_crossing;
+  const bool forbidden =
+      has(a.reasons, "NOT_CROSSABLE_CLASS") || has(a.reasons, "TUNNEL") || a.tunnel || no_crossing;
   const bool hidden = limited_visibility_unsuitable && has(a.reasons, "LIMITED_VISIBILITY");
   const bool good_enough = a.score.has_value() && total >= a.threshold;
   if (!good_enough && !force_suitable) a.reasons.emplace_back("LOW_SCORE");

@@ -23,13 +23,16 @@ struct LocalSegment {
 };
 
 /// Every segment whose box meets the square of half-size `radius_m` around `p`.
-std::vector<LocalSegment> load_neighbourhood(sqlite::Database& db, schema::PlanePoint p,
-                                             double radius_m) {
+std::vector<LocalSegment> load_neighbourhood(sqlite::Database& db, int schema_version,
+                                             schema::PlanePoint p, double radius_m) {
   // Prepared per call: better_place is a planning query (ms), not the hot assess path.
+  using C = schema::SegmentColumn;
+  static const schema::SegmentSelection kColumns(
+      {C::from_node_id, C::to_node_id, C::length_m, C::score, C::context_score, C::reasons,
+       C::tunnel, C::override_no_crossing, C::override_force_suitable, C::crossing_distance_m},
+      2);
   sqlite::Statement query = db.prepare(
-      "SELECT s.fid, s.from_node_id, s.to_node_id, s.length_m, s.geom, s.score, s.context_score, "
-      "s.reasons, s.tunnel, s.override_no_crossing, s.override_force_suitable, "
-      "s.crossing_distance_m FROM " +
+      "SELECT s.fid, s.geom, " + kColumns.sql("s", schema_version) + " FROM " +
       std::string(schema::kSegmentsRtree) + " r JOIN " + std::string(schema::kSegmentsTable) +
       " s ON s.fid = r.id WHERE r.maxx >= ?1 AND r.minx <= ?2 AND r.maxy >= ?3 AND r.miny <= ?4");
   query.bind(1, p.x - radius_m);
@@ -40,18 +43,19 @@ std::vector<LocalSegment> load_neighbourhood(sqlite::Database& db, schema::Plane
   while (query.step()) {
     LocalSegment s;
     s.id = query.column_int64(0);
-    s.from = query.column_int64(1);
-    s.to = query.column_int64(2);
-    s.length_m = query.column_double(3);
-    if (!schema::decode_linestring(query.column_blob(4), s.points)) continue;
-    s.has_score = !query.column_is_null(5);
-    s.score = static_cast<int>(query.column_int64(5));
-    s.context = static_cast<int>(query.column_int64(6));
-    s.reasons = query.column_text(7);
-    s.tunnel = query.column_int64(8) != 0;
-    s.no_crossing = query.column_int64(9) != 0;
-    s.force_suitable = query.column_int64(10) != 0;
-    if (!query.column_is_null(11)) s.crossing_distance_m = query.column_double(11);
+    if (!schema::decode_linestring(query.column_blob(1), s.points)) continue;
+    s.from = query.column_int64(kColumns[C::from_node_id]);
+    s.to = query.column_int64(kColumns[C::to_node_id]);
+    s.length_m = query.column_double(kColumns[C::length_m]);
+    s.has_score = !query.column_is_null(kColumns[C::score]);
+    s.score = static_cast<int>(query.column_int64(kColumns[C::score]));
+    s.context = static_cast<int>(query.column_int64(kColumns[C::context_score]));
+    s.reasons = query.column_text(kColumns[C::reasons]);
+    s.tunnel = query.column_int64(kColumns[C::tunnel]) != 0;
+    s.no_crossing = query.column_int64(kColumns[C::override_no_crossing]) != 0;
+    s.force_suitable = query.column_int64(kColumns[C::override_force_suitable]) != 0;
+    if (!query.column_is_null(kColumns[C::crossing_distance_m]))
+      s.crossing_distance_m = query.column_double(kColumns[C::crossing_distance_m]);
     out.push_back(std::move(s));
   }
   return out;
@@ -106,8 +110,8 @@ Result<BetterPlaces> Map::better_place(const Position& position,
   if (!here.ok()) return Result<BetterPlaces>{here.status, std::nullopt};
   try {
     const schema::PlanePoint robot{here->road.query.easting_m, here->road.query.northing_m};
-    std::vector<LocalSegment> local =
-        load_neighbourhood(impl_->db, robot, options.search_radius_m + 20.0);
+    std::vector<LocalSegment> local = load_neighbourhood(impl_->db, impl_->info.schema_version,
+                                                         robot, options.search_radius_m + 20.0);
     std::unordered_map<std::int64_t, std::vector<std::size_t>> at_node;
     std::size_t start = local.size();
     for (std::size_t i = 0; i < local.size(); ++i) {

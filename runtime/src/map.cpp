@@ -275,10 +275,12 @@ Result<NearestRoad> Map::nearest(const Position& position, double max_distance_m
     sqlite::Statement& attributes = impl.queries.attributes;
     attributes.bind(1, road.segment_id);
     if (attributes.step()) {
-      road.osm_way_id = attributes.column_int64(0);
-      road.highway = attributes.column_text_view(1);
-      road.name = attributes.column_text_view(2);
-      road.segment_length_m = attributes.column_double(3);
+      using C = schema::SegmentColumn;
+      const schema::SegmentSelection& at = detail::kIdentityColumns;
+      road.osm_way_id = attributes.column_int64(at[C::osm_way_id]);
+      road.highway = attributes.column_text_view(at[C::highway]);
+      road.name = attributes.column_text_view(at[C::name]);
+      road.segment_length_m = attributes.column_double(at[C::length_m]);
     }
     attributes.reset();
     return Result<NearestRoad>{Status{}, std::move(road)};
@@ -311,19 +313,22 @@ double Map::Impl::direction_at(std::int64_t segment_id, const detail::PolylinePr
   stmt.bind(2, vertex.x + kHalfBoxM);
   stmt.bind(3, vertex.y - kHalfBoxM);
   stmt.bind(4, vertex.y + kHalfBoxM);
+  using C = schema::SegmentColumn;
+  const int from_column = detail::kEndNodeColumns[C::from_node_id];
+  const int to_column = detail::kEndNodeColumns[C::to_node_id];
   while (stmt.step()) {
     const std::int64_t fid = stmt.column_int64(0);
     if (fid == segment_id) {
-      own_from = stmt.column_int64(1);
-      own_to = stmt.column_int64(2);
+      own_from = stmt.column_int64(from_column);
+      own_to = stmt.column_int64(to_column);
       continue;
     }
-    if (!schema::decode_linestring(stmt.column_blob(3), scratch)) {
+    if (!schema::decode_linestring(stmt.column_blob(1), scratch)) {
       stmt.reset();
       throw std::runtime_error("segment " + std::to_string(fid) + " has a malformed geometry");
     }
     const std::size_t n = scratch.size();
-    others.push_back({stmt.column_int64(1), stmt.column_int64(2),
+    others.push_back({stmt.column_int64(from_column), stmt.column_int64(to_column),
                       geo::grid_yaw_rad(scratch[1].x - scratch[0].x, scratch[1].y - scratch[0].y),
                       geo::grid_yaw_rad(scratch[n - 2].x - scratch[n - 1].x,
                                         scratch[n - 2].y - scratch[n - 1].y)});

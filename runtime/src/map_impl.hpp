@@ -29,11 +29,18 @@ struct Queries {
   /// segment's end vertex).
   sqlite::Statement segments_at;
 
-  /// `has_sight`: the DB has the sight columns (schema version >= 2); older ones read NULLs.
-  Queries(sqlite::Database& db, bool has_sight);
+  /// `schema_version`: the map's; columns it lacks read as NULL.
+  Queries(sqlite::Database& db, int schema_version);
 };
 
-/// Suitability thresholds as recorded by the build (param.suitability.*), else DESIGN.md's.
+/// What assess reads of a segment (the `assessment` statement).
+extern const schema::SegmentSelection kAssessColumns;
+/// What nearest() reads of a segment: its identity (the `attributes` statement).
+extern const schema::SegmentSelection kIdentityColumns;
+/// The end nodes read after fid and geom (the `segments_at` statement).
+extern const schema::SegmentSelection kEndNodeColumns;
+
+/// Suitability thresholds as recorded by the build (param.suitability.*), else the thesis' defaults.
 struct Thresholds {
   double valid_distance_m = 10.0;
   double threshold = 20.0;
@@ -57,7 +64,7 @@ struct Map::Impl {
   Impl(sqlite::Database&& database, MapInfo&& map_info)
       : db(std::move(database)),
         info(std::move(map_info)),
-        queries(db, info.schema_version >= 2),
+        queries(db, info.schema_version),
         thresholds(detail::thresholds_from(info)) {}
 
   /// The position in the map's UTM zone, or invalid_argument.

@@ -4,9 +4,11 @@
 
 namespace roadcross::schema {
 
-const std::vector<Column>& segment_columns() {
-  // Order matters: the writer binds values in this order. Later schema versions append.
-  static const std::vector<Column> columns = {
+namespace {
+
+std::vector<Column> make_segment_columns() {
+  // Order matters: it is the table's order and SegmentColumn's. Later schema versions append.
+  std::vector<Column> columns = {
       // Identity and topology (foundation).
       {"osm_way_id", "INTEGER NOT NULL", "OSM way the segment was cut from"},
       {"highway", "TEXT NOT NULL", "OSM highway=* value of the way"},
@@ -63,7 +65,53 @@ const std::vector<Column>& segment_columns() {
       {"required_sight_m", "REAL",
        "distance a vehicle at the road's speed covers while the robot crosses, metres"},
   };
+  for (Column& column : columns) {
+    if (column.name.rfind("sight_", 0) == 0 || column.name == "required_sight_m") {
+      column.since_version = 2;
+    }
+  }
   return columns;
+}
+
+}  // namespace
+
+const std::vector<Column>& segment_columns() {
+  static const std::vector<Column> columns = make_segment_columns();
+  return columns;
+}
+
+const Column& column_spec(SegmentColumn column) {
+  return segment_columns().at(static_cast<std::size_t>(column));
+}
+
+SegmentSelection::SegmentSelection(std::initializer_list<SegmentColumn> columns, int first_position)
+    : columns_(columns), position_(kSegmentColumnCount, -1) {
+  int position = first_position;
+  for (SegmentColumn column : columns_) position_[static_cast<std::size_t>(column)] = position++;
+}
+
+std::string SegmentSelection::sql(std::string_view table_alias, int schema_version) const {
+  std::string out;
+  for (SegmentColumn column : columns_) {
+    if (!out.empty()) out += ", ";
+    const Column& spec = column_spec(column);
+    if (spec.since_version > schema_version) {
+      out += "NULL";
+      continue;
+    }
+    if (!table_alias.empty()) out.append(table_alias).append(".");
+    out += spec.name;
+  }
+  return out;
+}
+
+int SegmentSelection::operator[](SegmentColumn column) const {
+  const int position = position_[static_cast<std::size_t>(column)];
+  if (position < 0) {
+    throw std::logic_error("segments column " + std::string(column_spec(column).name) +
+                           " read but not selected");
+  }
+  return position;
 }
 
 const std::vector<Column>& crossing_columns() {

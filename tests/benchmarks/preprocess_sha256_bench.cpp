@@ -1,5 +1,5 @@
-// SHA-256 of the build's input files (the DB records them): the portable compression against
-// the SHA-NI one, in bytes per second. The build hashes the OSM file (and the DEMs) on a thread
+// SHA-256 of the build's input files (the DB records them; OpenSSL's libcrypto), in bytes per
+// second. The build hashes the OSM file (and the DEMs) on a thread
 // of its own beside the stages that use both cores, so its rate is core time taken from them.
 #include <benchmark/benchmark.h>
 
@@ -12,32 +12,18 @@ namespace rp = roadcross::preprocess;
 
 namespace {
 
-void hash_buffer(benchmark::State& state, rp::Sha256Compress compress) {
+void BM_Sha256(benchmark::State& state) {
   std::vector<std::uint8_t> data(std::size_t(1) << 20);  // 1 MiB, as the file is read in pieces
   for (std::size_t i = 0; i < data.size(); ++i)
     data[i] = static_cast<std::uint8_t>(i * 2654435761u);
   for (auto _ : state) {
-    rp::Sha256 hash(compress);
+    rp::Sha256 hash;
     hash.update(data.data(), data.size());
     benchmark::DoNotOptimize(hash.hex_digest());
   }
   state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations() * data.size()));
 }
-
-void BM_Sha256Portable(benchmark::State& state) {
-  hash_buffer(state, &rp::sha256_compress_portable);
-}
-BENCHMARK(BM_Sha256Portable);
-
-void BM_Sha256Hardware(benchmark::State& state) {
-  const rp::Sha256Compress hardware = rp::sha256_compress_hardware();
-  if (!hardware) {
-    state.SkipWithError("this CPU has no SHA extensions");
-    return;
-  }
-  hash_buffer(state, hardware);
-}
-BENCHMARK(BM_Sha256Hardware);
+BENCHMARK(BM_Sha256);
 
 }  // namespace
 

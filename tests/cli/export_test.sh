@@ -2,7 +2,7 @@
 # roadcross export against GDAL's own conversion of the same table
 # (ogr2ogr -f GeoJSON -t_srs EPSG:4326 -lco RFC7946=YES): same features in the same order, same
 # coordinates (to 1e-7 degree), same values of every column; `suitable` follows the rule of
-# DESIGN.md computed here from the columns, and agrees with `roadcross assess` at midpoints.
+# the thesis (docs/cost-model.md) computed here from the columns, and agrees with `roadcross assess` at midpoints.
 source "$(dirname "$0")/lib.sh"
 "$ROADCROSS_BUILD" --osm "$PRAGUE_OSM" --elevation "$ROADCROSS_MAPS_DIR/prague/N50E014.hgt" \
   -o "$WORK/prague.gpkg" -q

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # roadcross render on Prague (with terrain): the PNG is georeferenced by its world file, so GDAL
 # (gdallocationinfo) reads the colour at the midpoints of segments whose suitability the test
-# decides itself from the DB's columns (the rule of DESIGN.md, not the program's code); rank 0
+# decides itself from the DB's columns (the rule of docs/cost-model.md, not the program's code); rank 0
 # segments are viridis' yellow; the hillshade shows; bbox, width and bad input.
 source "$(dirname "$0")/lib.sh"
 PIXELS="$(dirname "$0")/png_pixels.py"

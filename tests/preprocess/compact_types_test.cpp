@@ -1,12 +1,16 @@
 // ReasonSet and Maybe<T>: the compact per-segment storage behaves like the vector of strings and
-// std::optional it replaced.
+// std::optional it replaced; the metadata keys the build and the runtime share.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <stdexcept>
+#include <string>
 
 #include "roadcross/preprocess/common/maybe.hpp"
 #include "roadcross/preprocess/common/reasons.hpp"
+#include "roadcross/preprocess/parameters.hpp"
+#include "roadcross/schema/schema.hpp"
 
 namespace rp = roadcross::preprocess;
 
@@ -18,7 +22,7 @@ TEST(ReasonSet, KeepsCanonicalOrderAndEachCodeOnce) {
   r.add("SHARP_BEND");
   r.add("NOT_CROSSABLE_CLASS");
   r.add("SHARP_BEND");
-  // kReasonCodes order: what forbids crossing first.
+  // schema::kReasons order: what forbids crossing first.
   EXPECT_EQ(r.list(),
             (std::vector<std::string>{"NOT_CROSSABLE_CLASS", "SHARP_BEND", "NO_ELEVATION"}));
   EXPECT_EQ(r.joined(','), "NOT_CROSSABLE_CLASS,SHARP_BEND,NO_ELEVATION");
@@ -70,4 +74,15 @@ TEST(Maybe, SmallIntWidensToIntKeepingAbsence) {
   rank = -127;  // the smallest value (-128 is the absence sentinel)
   EXPECT_EQ(*rp::MaybeInt(rank), -127);
   EXPECT_EQ(rank.value_or(3) + 1, -126);  // arithmetic in int, not a wrapped char
+}
+
+// The runtime reads the map's default thresholds back by the keys schema::meta names: the build
+// must record exactly those keys, with the defaults of docs/cost-model.md (10 m, 20, 1).
+TEST(MetadataContract, TheBuildRecordsTheThresholdsTheRuntimeReads) {
+  std::map<std::string, std::string> recorded;
+  for (const auto& [key, value] : rp::Parameters{}.as_metadata()) recorded[key] = value;
+  namespace meta = roadcross::schema::meta;
+  EXPECT_EQ(recorded[std::string(meta::kValidDistanceParam)], "10");
+  EXPECT_EQ(recorded[std::string(meta::kThresholdParam)], "20");
+  EXPECT_EQ(recorded[std::string(meta::kLimitedVisibilityUnsuitableParam)], "1");
 }

@@ -1,6 +1,6 @@
 // The context stage on tests/data/context_tags.osm, a hand-written map with one road per tag
 // form and one node per crossing kind. Every expected value below is derived by hand from the
-// tag, the national table (CZ: the map's speed tags are mostly CZ:*) and the DESIGN.md points:
+// tag, the national table (CZ: the map's speed tags are mostly CZ:*) and the thesis' points (docs/cost-model.md):
 //   speed <=30 -> 3, <=50 -> 2, <=80 -> 1; lanes 1..4 -> 5, 4, 2, 1; width <=3.5/4.5/5.5/6.5 ->
 //   4/3/2/1; residential, living_street, service 3, primary 1, trunk -4, motorway -10;
 //   defaults: two-way residential 2 lanes, width = lanes x 3.0 m (x 3.5 m on major roads).

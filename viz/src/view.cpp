@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "hillshade.hpp"
+#include "roadcross/schema/reasons.hpp"
 #include "roadcross/viz/colors.hpp"
 #include "roadcross/viz/export.hpp"
 #include "roadcross/viz/output_file.hpp"
@@ -23,12 +24,6 @@ const std::vector<std::pair<std::string_view, std::string_view>>& embedded_files
 }  // namespace assets
 
 namespace {
-
-// Reason codes the runtime can give (runtime.hpp), with the runtime's own sentences.
-constexpr std::string_view kReasonCodes[] = {
-    "TOO_FAR_FROM_ROAD",   "NEAR_JUNCTION", "SHARP_BEND",   "CREST_OR_DIP", "BUSY_ROAD",
-    "NOT_CROSSABLE_CLASS", "TUNNEL",        "NO_ELEVATION", "LOW_SCORE",    "OVERRIDE",
-    "LIMITED_VISIBILITY"};
 
 // Distance within which assess looks for a road (AssessOptions' default).
 constexpr double kMaxDistanceM = AssessOptions{}.max_distance_m;
@@ -79,8 +74,8 @@ nlohmann::ordered_json meta_json(const MapLayers& layers, const nlohmann::ordere
   meta["attribution"] = "\u00a9 OpenStreetMap contributors";
   meta["hillshade"] = hillshade;
   nlohmann::ordered_json reasons;
-  for (std::string_view code : kReasonCodes)
-    reasons[std::string(code)] = describe_reason(std::string(code));
+  for (const schema::ReasonSpec& reason : schema::kReasons)
+    reasons[std::string(reason.code)] = std::string(reason.sentence);
   meta["reasons"] = reasons;
   return meta;
 }

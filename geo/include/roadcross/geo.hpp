@@ -1,4 +1,4 @@
-// Angle and coordinate helpers, done once. Conventions (DESIGN.md):
+// Angle and coordinate helpers, done once. Conventions (docs/architecture.md):
 //  - yaw: ENU as in ROS REP-103, radians, 0 = east, counter-clockwise positive, in (-pi, pi];
 //  - bearing_deg: compass, 0 = north, clockwise, degrees, in [0, 360); only at the edges;
 //  - grid yaw in a UTM plane is atan2(dN, dE), a plane angle (never a great-circle formula).

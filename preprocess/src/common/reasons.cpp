@@ -1,15 +1,16 @@
 #include "roadcross/preprocess/common/reasons.hpp"
 
-#include <algorithm>
 #include <stdexcept>
 
 namespace roadcross::preprocess {
 
 namespace {
 std::size_t index_of(std::string_view code) {
-  const auto it = std::find(kReasonCodes.begin(), kReasonCodes.end(), code);
-  if (it == kReasonCodes.end()) throw std::logic_error("unknown reason code " + std::string(code));
-  return static_cast<std::size_t>(it - kReasonCodes.begin());
+  const std::size_t index = schema::reason_index(code);
+  if (index >= schema::kStoredReasonCount) {
+    throw std::logic_error("not a stored reason code: " + std::string(code));
+  }
+  return index;
 }
 }  // namespace
 
@@ -23,18 +24,18 @@ bool ReasonSet::contains(std::string_view code) const {
 
 std::vector<std::string> ReasonSet::list() const {
   std::vector<std::string> out;
-  for (std::size_t i = 0; i < kReasonCodes.size(); ++i) {
-    if (bits_ & (1u << i)) out.emplace_back(kReasonCodes[i]);
+  for (std::size_t i = 0; i < schema::kStoredReasonCount; ++i) {
+    if (bits_ & (1u << i)) out.emplace_back(schema::kReasons[i].code);
   }
   return out;
 }
 
 std::string ReasonSet::joined(char separator) const {
   std::string out;
-  for (std::size_t i = 0; i < kReasonCodes.size(); ++i) {
+  for (std::size_t i = 0; i < schema::kStoredReasonCount; ++i) {
     if (!(bits_ & (1u << i))) continue;
     if (!out.empty()) out += separator;
-    out += kReasonCodes[i];
+    out += schema::kReasons[i].code;
   }
   return out;
 }

@@ -309,4 +309,15 @@ std::span<const Incidence> Incidences::at(std::int64_t node) const noexcept {
   return index == npos ? std::span<const Incidence>() : at_index(index);
 }
 
+RoadBounds road_bounds(const RoadGraph& graph) {
+  RoadBounds b;
+  for (const Segment& s : graph.segments) {
+    for (const PlanePoint& q : graph.line(s)) {
+      b.min_e = std::min(b.min_e, q.x), b.max_e = std::max(b.max_e, q.x);
+      b.min_n = std::min(b.min_n, q.y), b.max_n = std::max(b.max_n, q.y);
+    }
+  }
+  return b;
+}
+
 }  // namespace roadcross::preprocess

@@ -74,7 +74,7 @@ void write_terrain_coverage(const std::string& gpkg_path, Grid&& elevation,
   const ScopedConfig date("OGR_CURRENT_DATE", last_change);
   // As for the rest of the file (GeoPackageWriter): it is private until renamed into place, so
   // GDAL's connection needs no fsync and no rollback journal either (a failed build discards
-  // the file). Saves ~20 % of this stage.
+  // the file).
   const ScopedConfig synchronous("OGR_SQLITE_SYNCHRONOUS", "OFF");
   const ScopedConfig journal("OGR_SQLITE_JOURNAL", "OFF");
   // GDAL's warnings (e.g. about the temporary file's extension) are not the user's business;

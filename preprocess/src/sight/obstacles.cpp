@@ -17,6 +17,7 @@
 #include <thread>
 #include <utility>
 
+#include "roadcross/preprocess/common/parallel.hpp"
 #include "roadcross/preprocess/sight/sight.hpp"
 
 namespace roadcross::preprocess {
@@ -212,17 +213,14 @@ Obstacles ObstacleReader::take_edges(const geo::UtmZone& zone, const PlanePoint&
     }
   };
   // Headers are kNoVertex until the compaction writes them: both passes leave them.
-  const std::size_t threads = std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1, 16);
-  const std::size_t chunk = (slots_.size() + threads - 1) / threads;
+  const std::size_t parts = core_count();
+  const std::size_t part_size = (slots_.size() + parts - 1) / parts;
   for (const auto& pass : {std::function<void(std::size_t, std::size_t)>(project),
                            std::function<void(std::size_t, std::size_t)>(copy_references)}) {
-    std::vector<std::thread> pool;
-    for (std::size_t t = 1; t < threads; ++t) {
-      pool.emplace_back(pass, std::min(slots_.size(), t * chunk),
-                        std::min(slots_.size(), (t + 1) * chunk));
-    }
-    pass(0, std::min(slots_.size(), chunk));
-    for (std::thread& t : pool) t.join();
+    parallel_for<NoState>(parts, [&](std::size_t part, NoState&) {
+      pass(std::min(slots_.size(), part * part_size),
+           std::min(slots_.size(), (part + 1) * part_size));
+    });
   }
   // Only edges a sight line can meet: within reach of the roads' box.
   const auto near = [&](FixedSlot p, FixedSlot q) {

@@ -14,8 +14,8 @@
 #include <string>
 
 #include "roadcross/preprocess/common/errors.hpp"
+#include "roadcross/preprocess/common/parallel.hpp"
 #include "roadcross/preprocess/graph/strokes.hpp"
-#include "roadcross/preprocess/common/two_cores.hpp"
 
 namespace roadcross::preprocess {
 
@@ -176,7 +176,7 @@ namespace {
 struct RowPrefixSums {
   /// The band holds this many query windows: when it moves north, the last ~2 windows' rows
   /// are copied to its start, so a larger band copies less often (8: a row is copied ~0.3
-  /// times; 3 copied each row ~1.7 times, 4 % of a 1x Monaco build's instructions).
+  /// times on average; 3: ~1.7 times).
   static constexpr std::size_t kBandWindows = 8;
 
   const Grid& grid;
@@ -426,12 +426,15 @@ void AnnulusTpi::compute_all() {
   if (!prefix_->all_rows) throw std::logic_error("AnnulusTpi::compute_all needs TpiRows::all");
   if (known_.empty()) allocate_cache();
   const std::size_t cols = block_spec_.cols;
-  for_rows_on_two_cores(block_spec_.rows, [&](std::size_t row) {
-    for (std::size_t col = 0; col < cols; ++col) {
-      block_mean_[row * cols + col] = compute_block_mean(col, row);
-      known_[row * cols + col] = 1;
-    }
-  });
+  parallel_for<NoState>(
+      block_spec_.rows,
+      [&](std::size_t row, NoState&) {
+        for (std::size_t col = 0; col < cols; ++col) {
+          block_mean_[row * cols + col] = compute_block_mean(col, row);
+          known_[row * cols + col] = 1;
+        }
+      },
+      1, 2);
 }
 
 bool AnnulusTpi::at_block_centre(std::size_t col, std::size_t row) const {
@@ -466,10 +469,13 @@ Grid topographic_position(const Grid& elevation, double inner_m, double outer_m,
   AnnulusTpi annulus(elevation, inner_m, outer_m, min_valid_fraction, TpiRows::all);
   annulus.compute_all();  // then at() only reads: safe on both cores
   Grid tpi(elevation.spec);
-  for_rows_on_two_cores(elevation.spec.rows, [&](std::size_t row) {
-    for (std::size_t col = 0; col < elevation.spec.cols; ++col)
-      tpi.at(col, row) = annulus.at(col, row);
-  });
+  parallel_for<NoState>(
+      elevation.spec.rows,
+      [&](std::size_t row, NoState&) {
+        for (std::size_t col = 0; col < elevation.spec.cols; ++col)
+          tpi.at(col, row) = annulus.at(col, row);
+      },
+      1, 2);
   return tpi;
 }
 

@@ -23,6 +23,7 @@
 #endif
 
 #include "roadcross/preprocess/common/errors.hpp"
+#include "roadcross/preprocess/common/parallel.hpp"
 #include "roadcross/preprocess/common/parameter_spec.hpp"
 #include "roadcross/preprocess/common/progress.hpp"
 #include "roadcross/preprocess/terrain/terrain.hpp"
@@ -31,25 +32,6 @@
 namespace roadcross::preprocess {
 
 namespace {
-
-struct Bounds {
-  double min_e = std::numeric_limits<double>::infinity();
-  double min_n = std::numeric_limits<double>::infinity();
-  double max_e = -std::numeric_limits<double>::infinity();
-  double max_n = -std::numeric_limits<double>::infinity();
-};
-
-/// Every road point's UTM bounding box.
-Bounds road_bounds(const RoadGraph& graph) {
-  Bounds b;
-  for (const Segment& s : graph.segments) {
-    for (const PlanePoint& q : graph.line(s)) {
-      b.min_e = std::min(b.min_e, q.x), b.max_e = std::max(b.max_e, q.x);
-      b.min_n = std::min(b.min_n, q.y), b.max_n = std::max(b.max_n, q.y);
-    }
-  }
-  return b;
-}
 
 /// Every XYZ point of every file, in UTM, read chunk by chunk into the bins of the tiles that
 /// need them (one TIN per tile is made from each bin).
@@ -220,7 +202,7 @@ constexpr double kStoredGridMaxCells = 40e6;
 /// share of the statistics and of the stored grid), plus the halo.
 struct TileGrids {
   geo::UtmZone zone;
-  Bounds roads;
+  RoadBounds roads;
   TileLayout layout;
   double halo_m, cell_m, align_m;
 
@@ -271,7 +253,7 @@ class InOrderMerge {
 struct ThreadState {
   std::vector<std::unique_ptr<RasterElevation>> rasters;  ///< per source; null: not a raster
   // The last tile's elevation cells and void-fill flags: reused pages cost no page fault
-  // (a fresh page costs ~5 us on this VM; most tiles are the full tile size).
+  // (most tiles are the full tile size).
   std::vector<float> elevation_cells;
   std::vector<char> void_queued;
 };
@@ -475,39 +457,15 @@ void return_free_heap_pages() {
 #endif
 }
 
-/// Runs job(k, state) for k in [0, count) on two threads, each with its own ThreadState, taking
-/// the next k as it finishes one; the first exception stops both and is rethrown.
-template <typename Job>
-void run_on_two_cores(std::size_t count, const Job& job) {
-  std::atomic<std::size_t> next{0};
-  std::atomic<bool> failed{false};
-  std::exception_ptr errors[2];
-  const auto worker = [&](int thread) {
-    try {
-      ThreadState state;
-      for (std::size_t k; !failed && (k = next++) < count;) job(k, state);
-    } catch (...) {
-      errors[thread] = std::current_exception();
-      failed = true;
-    }
-  };
-  std::thread other(worker, 1);
-  worker(0);
-  other.join();
-  for (const std::exception_ptr& e : errors) {
-    if (e) std::rethrow_exception(e);
-  }
-}
-
 }  // namespace
 
-CellSizeChoice choose_cell_size(const RoadGraph& graph, const TerrainInputs& inputs,
-                                const TerrainParameters& parameters) {
+CellSizeChoice choose_cell_size(const geo::UtmZone& zone, const RoadBounds& roads,
+                                const TerrainInputs& inputs, const TerrainParameters& parameters) {
   if (parameters.cell_size_m > 0.0) return {parameters.cell_size_m, "given (terrain.cell_size_m)"};
+  if (inputs.sources.empty()) return {kFinestAutomaticCellM, "no elevation input"};
   bool has_xyz = false;
   std::vector<double> sides_m;
   std::string finest;  // the raster with the smallest side, as "file: a x b m"
-  const Bounds roads = road_bounds(graph);
   const double centre_e = 0.5 * (roads.min_e + roads.max_e);
   const double centre_n = 0.5 * (roads.min_n + roads.max_n);
   for (const ElevationSource& source : inputs.sources) {
@@ -516,7 +474,7 @@ CellSizeChoice choose_cell_size(const RoadGraph& graph, const TerrainInputs& inp
       continue;
     }
     const RasterElevation::PixelSize pixel =
-        RasterElevation(source.path, graph.zone).pixel_size_at(centre_e, centre_n);
+        RasterElevation(source.path, zone).pixel_size_at(centre_e, centre_n);
     const double side = std::min(pixel.column_m, pixel.row_m);  // NaN when either is
     if (!std::isfinite(side)) continue;
     if (sides_m.empty() || side < *std::min_element(sides_m.begin(), sides_m.end())) {
@@ -543,16 +501,19 @@ CellSizeChoice choose_cell_size(const RoadGraph& graph, const TerrainInputs& inp
   return {cell_m, source};
 }
 
-TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
+void mark_without_elevation(RoadGraph& graph) {
+  for (Segment& s : graph.segments) s.reasons.add("NO_ELEVATION");
+}
+
+TerrainReport compute_terrain(RoadGraph& graph, const RoadBounds& roads,
+                              const TerrainInputs& inputs, const CellSizeChoice& cell,
                               const TerrainParameters& given, Progress& progress,
                               Grid* elevation_out) {
   TerrainReport report;
   TerrainParameters p = given;
-  const CellSizeChoice cell = choose_cell_size(graph, inputs, given);
   p.cell_size_m = cell.cell_m;
   report.cell_size_source = cell.source;
   p.validate_relations();
-  const Bounds roads = road_bounds(graph);
   // The whole grid reaches one large TPI radius beyond the roads so that road cells see whole
   // annuli; it is never held at once, only tile by tile.
   const double halo_m = p.tpi_large_outer_m + p.cell_size_m;
@@ -636,9 +597,13 @@ TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
     report.cells_with_elevation += r.cells_with_elevation;
     progress.update(++tiles_done, tiles.size());
   };
-  run_on_two_cores(tiles.size(), [&](std::size_t k, ThreadState& thread) {
-    merge.add(k, job.run(tiles[k], thread), add_to_totals);
-  });
+  // Two tiles in flight at most: memory follows the tiles held, not the machine's cores.
+  parallel_for<ThreadState>(
+      tiles.size(),
+      [&](std::size_t k, ThreadState& thread) {
+        merge.add(k, job.run(tiles[k], thread), add_to_totals);
+      },
+      1, 2);
   // The tiles' freed grids and lattice values leave free pages in the threads' heaps; given
   // back, they do not add to the later stages' peak (the terrain grid's write at 200x).
   return_free_heap_pages();

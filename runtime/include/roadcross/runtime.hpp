@@ -113,7 +113,7 @@ struct RoadHeading {
 };
 
 /// Per-call overrides of the DB's suitability thresholds (unset = the DB's value, recorded at
-/// build time as param.suitability.*, or DESIGN.md's default for older DBs).
+/// build time as param.suitability.*, or the thesis' default for older DBs).
 struct AssessOptions {
   std::optional<double> valid_distance_m;  ///< a position is valid within this of a centreline
   std::optional<double> threshold;         ///< suitable when score + context_score >= this

@@ -23,7 +23,7 @@ struct SegmentParameters {
   void describe(std::vector<ParameterSpec>& out);
 };
 
-/// When a crossing place is suitable (DESIGN.md "Suitable"); applied by the runtime, recorded
+/// When a crossing place is suitable (docs/runtime.md, "Queries"); applied by the runtime, recorded
 /// in the DB metadata with the rest.
 struct SuitabilityParameters {
   double threshold = 20.0;         ///< suitable when score + context >= this

@@ -2,7 +2,9 @@
 // roadcross-specific is named here so that the writer and the reader cannot drift apart.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <initializer_list>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -12,7 +14,7 @@ namespace roadcross::schema {
 /// Version of the roadcross tables inside the GeoPackage. Bump on any change a reader must know
 /// about (a column added, renamed or whose meaning changed). Readers accept exactly the versions
 /// in [kOldestReadableVersion, kSchemaVersion].
-/// 2 (issue 11): the sight distance columns. Version 1 DBs stay readable: the runtime reads
+/// 2: the sight distance columns. Version 1 DBs stay readable: the runtime reads
 /// no sight column, and a version 1 DB simply never carries LIMITED_VISIBILITY.
 inline constexpr int kSchemaVersion = 2;
 inline constexpr int kOldestReadableVersion = 1;
@@ -47,17 +49,93 @@ inline constexpr std::string_view kCrossingCount = "crossing_count";
 /// "input.<n>.kind".
 inline constexpr std::string_view kParamPrefix = "param.";
 inline constexpr std::string_view kInputPrefix = "input.";
+/// The parameters the runtime reads back: the map's default thresholds of the verdict.
+inline constexpr std::string_view kValidDistanceParam = "param.suitability.valid_distance_m";
+inline constexpr std::string_view kThresholdParam = "param.suitability.threshold";
+inline constexpr std::string_view kLimitedVisibilityUnsuitableParam =
+    "param.sight.limited_visibility_unsuitable";
 }  // namespace meta
 
-/// A column of the segments table: its name, SQL type and what it means (with unit).
+/// A column of a roadcross table: its name, SQL type, what it means (with unit) and the schema
+/// version that added it (older maps lack it; readers select NULL in its place).
 struct Column {
   std::string_view name;
   std::string_view sql_type;
   std::string_view description;
+  int since_version = 1;
 };
 
-/// The attribute columns of `segments` in their table order (after fid and geom).
+/// The attribute columns of `segments`, by name. The enumerators are the column names and their
+/// order is the table's order (after fid and geom): code reads and writes columns through these
+/// names, never through numbers.
+enum class SegmentColumn : std::uint8_t {
+  osm_way_id,
+  highway,
+  name,
+  length_m,
+  from_node_id,
+  to_node_id,
+  oneway,
+  tunnel,
+  bridge,
+  class_cost,
+  junction_distance_m,
+  radius_m,
+  curvature_level,
+  curvature_cost,
+  elevation_m,
+  slope_deg,
+  grade_percent,
+  tpi_small_m,
+  tpi_large_m,
+  landform,
+  elevation_cost,
+  maxspeed_kmh,
+  lanes,
+  width_m,
+  context_score,
+  crossing_distance_m,
+  context_defaulted,
+  override_note,
+  override_no_crossing,
+  override_force_suitable,
+  rank,
+  score,
+  reasons,
+  sight_forward_m,
+  sight_backward_m,
+  sight_min_m,
+  required_sight_m,
+};
+inline constexpr std::size_t kSegmentColumnCount =
+    static_cast<std::size_t>(SegmentColumn::required_sight_m) + 1;
+
+/// The attribute columns of `segments` in their table order (after fid and geom); entry i is
+/// the column of enumerator i.
 const std::vector<Column>& segment_columns();
+
+/// The spec of one segments column.
+const Column& column_spec(SegmentColumn column);
+
+/// A SELECT list of named segments columns, and where each one lands in a statement's result.
+/// Columns that `schema_version` does not have are selected as NULL, so that one reader serves
+/// every readable version.
+class SegmentSelection {
+ public:
+  /// `columns`: what to read, in result order, starting at result position `first_position`
+  /// (the columns before it are the caller's own, e.g. fid and geom).
+  SegmentSelection(std::initializer_list<SegmentColumn> columns, int first_position = 0);
+
+  /// "a.name1, a.name2, ..." with `table_alias` ("" for none) and NULL for absent columns.
+  std::string sql(std::string_view table_alias, int schema_version) const;
+
+  /// The result position of `column`; throws std::logic_error when it was not selected.
+  int operator[](SegmentColumn column) const;
+
+ private:
+  std::vector<SegmentColumn> columns_;
+  std::vector<int> position_;  // by enumerator; -1 where not selected
+};
 
 /// The attribute columns of `crossings` in their table order (after fid and geom).
 const std::vector<Column>& crossing_columns();

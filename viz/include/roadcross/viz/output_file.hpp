@@ -1,4 +1,4 @@
-// Never a half-written output (DESIGN.md): write beside the target, rename on success.
+// Never a half-written output (docs/architecture.md): write beside the target, rename on success.
 #pragma once
 
 #include <string>

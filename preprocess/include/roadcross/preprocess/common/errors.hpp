@@ -9,8 +9,8 @@ namespace roadcross::preprocess {
 /// Bad input: a missing, empty, truncated or malformed file, or values out of range.
 class InputError : public std::runtime_error {
  public:
-  InputError(const std::string& file, const std::string& what)
-      : std::runtime_error(file + ": " + what), file_(file) {}
+  /// The message reads "FILE: WHAT"; WHAT names the line or object where known.
+  InputError(const std::string& file, const std::string& what);
   const std::string& file() const noexcept { return file_; }
 
  private:

@@ -1,6 +1,6 @@
-// The reason codes a segment can carry, as a bit set in their canonical reporting order (what
-// forbids crossing first, then why the place is poor): 2 bytes a segment instead of a vector of
-// strings, and always sorted and unique.
+// The reason codes a segment can carry (schema::kReasons' stored codes), as a bit set in their
+// canonical reporting order: 2 bytes a segment instead of a vector of strings, and always sorted
+// and unique.
 #pragma once
 
 #include <array>
@@ -9,37 +9,28 @@
 #include <string_view>
 #include <vector>
 
+#include "roadcross/schema/reasons.hpp"
+
 namespace roadcross::preprocess {
 
-inline constexpr std::array<std::string_view, 12> kReasonCodes = {"NOT_CROSSABLE_CLASS",
-                                                                  "TUNNEL",
-                                                                  "OVERRIDE",
-                                                                  "NEAR_JUNCTION",
-                                                                  "SHARP_BEND",
-                                                                  "CREST_OR_DIP",
-                                                                  "LIMITED_VISIBILITY",
-                                                                  "BUSY_ROAD",
-                                                                  "NO_ELEVATION",
-                                                                  "BRIDGE",
-                                                                  "COVERED",
-                                                                  "TOO_FAR_FROM_ROAD"};
-
 class ReasonSet {
-  static_assert(kReasonCodes.size() <= 16, "ReasonSet holds 16 bits: widen bits_ for more codes");
+  static_assert(schema::kStoredReasonCount <= 16,
+                "ReasonSet holds 16 bits: widen bits_ for more codes");
 
  public:
-  /// Adds a code of kReasonCodes; throws std::logic_error for any other (a typo in the code).
+  /// Adds a stored code of schema::kReasons; throws std::logic_error for any other (a typo in
+  /// the code, or one only the runtime gives).
   void add(std::string_view code);
   bool contains(std::string_view code) const;
   bool empty() const noexcept { return bits_ == 0; }
-  /// The codes, in kReasonCodes order.
+  /// The codes, in schema::kReasons order.
   std::vector<std::string> list() const;
-  /// The codes joined with `separator`, in kReasonCodes order ("" when empty).
+  /// The codes joined with `separator`, in schema::kReasons order ("" when empty).
   std::string joined(char separator) const;
   bool operator==(const ReasonSet&) const = default;
 
  private:
-  // 2 bytes (a Segment holds one): a bit for each of the 12 codes.
+  // 2 bytes (a Segment holds one): bit i for schema::kReasons[i].
   std::uint16_t bits_ = 0;
 };
 

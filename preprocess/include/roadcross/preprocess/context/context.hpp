@@ -1,4 +1,4 @@
-// The context score (thesis 4.2.4, DESIGN.md): how fast, wide and busy a road is from its OSM
+// The context score (thesis 4.2.4, docs/cost-model.md): how fast, wide and busy a road is from its OSM
 // tags, plus a bonus near a designated crossing, and the operator overrides on top. Fills
 // maxspeed_kmh, lanes, width_m, context_score, crossing_distance_m, context_defaulted and the
 // override fields of every segment, and appends BUSY_ROAD (and OVERRIDE for no_crossing).

@@ -14,7 +14,7 @@
 namespace roadcross::preprocess {
 
 struct GeometryParameters {
-  // Road class cost (DESIGN.md): primary 5, secondary 4, tertiary/busway 3,
+  // Road class cost (the thesis' code, docs/cost-model.md): primary 5, secondary 4, tertiary/busway 3,
   // residential/living_street/service/road 2, unclassified 1; links as their road.
   double class_cost_primary = 5, class_cost_secondary = 4, class_cost_tertiary = 3;
   double class_cost_minor = 2, class_cost_unclassified = 1;

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <span>
 #include <string>
@@ -355,6 +356,16 @@ class Incidences {
 inline Incidences incidences_of(const RoadGraph& graph) {
   return Incidences(graph);
 }
+
+/// The UTM bounding box of every road point (metres; empty: +inf mins, -inf maxes). Computed
+/// once per build, after segmenting, for the stages that work over the roads' area.
+struct RoadBounds {
+  double min_e = std::numeric_limits<double>::infinity();
+  double min_n = std::numeric_limits<double>::infinity();
+  double max_e = -std::numeric_limits<double>::infinity();
+  double max_n = -std::numeric_limits<double>::infinity();
+};
+RoadBounds road_bounds(const RoadGraph& graph);
 
 /// UTM zone of the centre of the bounding box of the located road nodes.
 geo::UtmZone choose_utm_zone(const RoadNetwork& network);

@@ -23,7 +23,7 @@ using Tags = std::vector<std::pair<std::string, std::string>>;
 /// Value of `key` in `tags`, or empty when absent.
 std::string_view tag_value(const Tags& tags, std::string_view key) noexcept;
 
-/// highway=* values that are roads a robot may have to cross (DESIGN.md "Roads kept").
+/// highway=* values that are roads a robot may have to cross (docs/cost-model.md, "Road class").
 /// motorway and trunk (and their links) are kept so that a robot near them is told it cannot
 /// cross; footways, cycleways, paths, steps, tracks and construction are not roads.
 bool is_kept_road_class(std::string_view highway) noexcept;

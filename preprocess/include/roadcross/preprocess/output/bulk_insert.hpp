@@ -1,8 +1,8 @@
 // Bulk inserts into SQLite as one INSERT ... SELECT statement over rows the build computes on
 // demand, read through a virtual table. A prepared INSERT bound and stepped once per row costs
-// a statement execution per row (cursor opened and closed, bindings copied and cleared): ~5 us
-// for a 39-column segment row. Read through a virtual table, SQLite keeps one statement and one
-// cursor open for all rows and pulls each value straight from the build's own data.
+// a statement execution per row (cursor opened and closed, bindings copied and cleared). Read
+// through a virtual table, SQLite keeps one statement and one cursor open for all rows and pulls
+// each value straight from the build's own data.
 #pragma once
 
 #include <cstddef>

@@ -1,5 +1,5 @@
-// The sight stage's spatial index of obstacle edges and its line-edge crossing test (issue 11;
-// made faster for issue 8). Internal to preprocess/src/sight/sight.cpp; a header so that the unit
+// The sight stage's spatial index of obstacle edges and its line-edge crossing test .
+// Internal to preprocess/src/sight/sight.cpp; a header so that the unit
 // tests reach the pieces. Every change here must leave the stage's answers bit for bit as they
 // were: the cells a line visits, the edges filed in them and the crossing arithmetic are the
 // same as before; only the memory layout and cheap certain rejects are new.
@@ -149,8 +149,8 @@ class EdgeGrid {
 
   /// True when test(edge index) is true for an edge in a cell the segment a->b passes through
   /// (every edge the segment crosses is among them); the cells are visited from a. An edge
-  /// listed in two cells along the line is offered twice (remembering the edges offered cost
-  /// more than the 12 % of repeated tests it saved on Monaco).
+  /// listed in two cells along the line is offered twice (remembering the edges offered costs
+  /// more than the repeated tests it saves).
   /// (The sight stage now tests each line against its fan's candidates, blocked_among; this
   /// line-by-line walk gives the answer it must equal, and is the tests' reference.)
   template <typename Test>
@@ -160,8 +160,7 @@ class EdgeGrid {
     std::uint64_t tile_key = 0;             // the tile looked up last
     const std::uint32_t* begins = nullptr;  // of tile_key's cells; nullptr: empty tile
     // Inlined by force: with the obstacle vertices read from fixed point (an int-to-double
-    // conversion, a product and a sum each), GCC called the lambda for every cell instead
-    // (2 % more instructions for the whole Monaco build).
+    // conversion, a product and a sum each), GCC would call the lambda for every cell instead.
     return for_cells_along(a, b, kCellM, [&](std::int64_t c, std::int64_t r) ROADCROSS_INLINE {
       const std::uint64_t k = key(c >> kTileShift, r >> kTileShift);
       if (!looked_up || k != tile_key) looked_up = true, tile_key = k, begins = tile_begins(k);

@@ -1,8 +1,9 @@
-// Fans of sight lines (issue 8): the lines from one eye to consecutive vehicle positions, tested
+// Fans of sight lines: the lines from one eye to consecutive vehicle positions, tested
 // at once against the edge grid (edge_grid.hpp) — which edges may block any of them (the
 // candidates, tested line by line) and whether a whole road direction is open to both kerbs.
-// Internal to preprocess/src/sight/sight.cpp; a header so that the unit tests reach the pieces. As for
-// the grid, every answer is the line-by-line test's, bit for bit: the proofs are in the comments.
+// Internal to preprocess/src/sight/sight.cpp; a header so that the unit tests reach the pieces. As
+// for the grid, every answer is the line-by-line test's, bit for bit: the proofs are in the
+// comments.
 #pragma once
 
 #include <algorithm>
@@ -137,7 +138,7 @@ class Fan {
     // The long sides first: a fan along a road is a thin wedge, and most edges near it lie
     // beside one of its two long sides. An axis's bounds are computed when an edge first needs
     // them (Axis::bound): most edges are told apart by the first one or two, and a winding
-    // road's hull has dozens of sides (all its bounds took 6-9 % of a build's instructions).
+    // road's hull has dozens of sides.
     axes_.clear();
     for (std::size_t i = 0; i < hull_.size() && hull_.size() > 1; ++i) {
       const PlanePoint& a = hull_[i];

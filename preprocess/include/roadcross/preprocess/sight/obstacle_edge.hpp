@@ -1,4 +1,4 @@
-// What blocks a line of sight (issue 11): the edges of obstacles' footprints. Its own header,
+// What blocks a line of sight: the edges of obstacles' footprints. Its own header,
 // below both the sight stage (sight.hpp) and its edge grid (edge_grid.hpp), so that the grid
 // needs nothing of the stage.
 #pragma once
@@ -40,7 +40,7 @@ struct FixedSlot {
 };
 
 /// Where fixed-point vertices lie: the point of slot (x, y) is origin + (x, y) * unit, with
-/// 0 <= x, y <= 2^31 - 1 (issue 8: 8 bytes a vertex instead of two doubles' 16). The unit is
+/// 0 <= x, y <= 2^31 - 1 (8 bytes a vertex instead of two doubles' 16). The unit is
 /// the finest power of two from 2^-10 m (~1 mm, far below OSM's 1e-7 degrees, ~1.1 cm) to
 /// 2^-7 m (~8 mm) with which the frame's extent fits: 2^-10 m up to 2 097 km, 2^-7 m up to
 /// 16 777 km (beyond any UTM zone's northings). The origin is a whole number of metres, so a
@@ -126,13 +126,13 @@ struct UninitialisedAllocator : std::allocator<T> {
 
 /// Obstacle edges stored as runs (polylines) of shared vertices: a building ring of k edges
 /// takes k + 2 slots of 8 bytes (a header with its band, then its k + 1 vertices, the first
-/// repeated at the end) instead of k edges of 40 bytes (issue 8: 1.3 GB of edges at 200x
-/// Monaco, then 664 MiB as 16-byte slots of doubles). An edge is named by the slot of its first
-/// end (its id, < slots()); its second end is the next slot. A vertex is in fixed point in the
-/// store's VertexFrame (within half a millimetre of the projected point) and read back as its
-/// exact double: every reader (the grid, the line test, the fan test) gets the same doubles, so
-/// the rounding analyses of edge_grid.hpp and fan.hpp (the cells' slack, Fan's proof), which are
-/// about the doubles given to them, hold as before.
+/// repeated at the end) instead of k edges of 40 bytes (or 16-byte slots of doubles): at country
+/// scale the edges are the build's largest table. An edge is named by the slot of its first end
+/// (its id, < slots()); its second end is the next slot. A vertex is in fixed point in the store's
+/// VertexFrame (within half a millimetre of the projected point) and read back as its exact double:
+/// every reader (the grid, the line test, the fan test) gets the same doubles, so the rounding
+/// analyses of edge_grid.hpp and fan.hpp (the cells' slack, Fan's proof), which are about the
+/// doubles given to them, hold as before.
 ///
 /// A header is a slot whose x is negative (a vertex's never is): x holds the run's bottom_m
 /// with its sign bit set (a band's bottom is >= 0 or -0, never NaN; -0 is x = -1, a NaN's

@@ -1,4 +1,4 @@
-// Sight distance (issue 11): how far along the road a robot standing at the kerb of a segment
+// Sight distance: how far along the road a robot standing at the kerb of a segment
 // sees an approaching vehicle, in both directions, with the line of sight blocked by the
 // terrain, by buildings (opaque prisms) and by walls and fences; and the sight distance a
 // crossing needs at the road's speed. Fills sight_forward_m, sight_backward_m, sight_min_m,
@@ -12,10 +12,10 @@
 #include <vector>
 
 #include "roadcross/geo.hpp"
-#include "roadcross/preprocess/sight/obstacle_edge.hpp"
 #include "roadcross/preprocess/common/parameter_spec.hpp"
-#include "roadcross/preprocess/osm/road_network.hpp"
 #include "roadcross/preprocess/graph/segments.hpp"
+#include "roadcross/preprocess/osm/road_network.hpp"
+#include "roadcross/preprocess/sight/obstacle_edge.hpp"
 #include "roadcross/preprocess/terrain/terrain_grid.hpp"
 
 namespace roadcross::preprocess {
@@ -69,7 +69,7 @@ double parse_height_m(std::string_view text) noexcept;
 /// node); the look-up is by id in a sorted table of 12 bytes a reference, freed after the pass.
 /// A slot is 8 bytes throughout: until take_edges() it holds a Location's two int32; take_edges()
 /// projects each node once to a fixed-point vertex in the same slot (VertexFrame) and compacts
-/// the runs in place: the edges never exist twice, nor as 40-byte edges (issue 8).
+/// the runs in place: the edges never exist twice, nor as 40-byte edges.
 class ObstacleReader final : public ExtraOsmReader {
  public:
   explicit ObstacleReader(const SightParameters& parameters) : p_(parameters) {}

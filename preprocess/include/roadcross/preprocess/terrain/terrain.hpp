@@ -12,9 +12,9 @@
 #include <string_view>
 #include <vector>
 
-#include "roadcross/preprocess/terrain/elevation_input.hpp"
 #include "roadcross/preprocess/common/parameter_spec.hpp"
 #include "roadcross/preprocess/graph/segments.hpp"
+#include "roadcross/preprocess/terrain/elevation_input.hpp"
 #include "roadcross/preprocess/terrain/terrain_grid.hpp"
 
 namespace roadcross::preprocess {
@@ -78,7 +78,8 @@ struct TerrainParameters {
   /// Elevation cost window along the road (as curvature), metres, and own-segment weight.
   double window_half_length_m = 100.0;
   double own_segment_weight = 3.0;
-  /// Cost of each landform class (DESIGN.md), in Landform order; scaled to 0..9 by 9/15.
+  /// Cost of each landform class (the thesis, docs/cost-model.md), in Landform order; scaled to
+  /// 0..9 by 9/15.
   std::array<double, kLandformCount> landform_cost = {8, 5, 6, 2, 1, 3, 6, 8, 10, 15};
 
   void describe(std::vector<ParameterSpec>& out);
@@ -276,21 +277,26 @@ struct TerrainReport {
   std::string cell_size_source;  ///< CellSizeChoice::source
 };
 
-/// terrain.cell_size_m when given (> 0); otherwise automatic_cell_size_m of the inputs, each
-/// raster's pixel measured at the centre of the roads' bounding box in the graph's UTM zone.
+/// The one place the terrain grid's cell size is chosen: terrain.cell_size_m when given (> 0);
+/// kFinestAutomaticCellM without elevation inputs; otherwise automatic_cell_size_m of the
+/// inputs, each raster's pixel measured at the centre of the roads' box (`roads`, in `zone`).
 /// Throws InputError when a raster cannot be opened.
-CellSizeChoice choose_cell_size(const RoadGraph& graph, const TerrainInputs& inputs,
-                                const TerrainParameters& parameters);
+CellSizeChoice choose_cell_size(const geo::UtmZone& zone, const RoadBounds& roads,
+                                const TerrainInputs& inputs, const TerrainParameters& parameters);
 
 /// Builds the terrain grid from the inputs (covering the roads plus the largest TPI radius) tile
 /// by tile, analyses each tile, standardises TPI over the whole map and fills the terrain fields
 /// of every segment. The elevation grid (voids filled; coarser when it would exceed 40 M cells)
 /// is moved into `elevation_out` when given, for storing in the DB. Throws InputError
-/// for an unreadable file or when no input overlaps the roads at all. An automatic
-/// terrain.cell_size_m (0) is chosen here with choose_cell_size.
-TerrainReport compute_terrain(RoadGraph& graph, const TerrainInputs& inputs,
+/// for an unreadable file or when no input overlaps the roads at all. `roads`: road_bounds of
+/// the graph; `cell`: choose_cell_size's answer (its size replaces terrain.cell_size_m).
+TerrainReport compute_terrain(RoadGraph& graph, const RoadBounds& roads,
+                              const TerrainInputs& inputs, const CellSizeChoice& cell,
                               const TerrainParameters& parameters, Progress& progress,
                               Grid* elevation_out = nullptr);
+
+/// The terrain stage without an elevation input: every segment is NO_ELEVATION.
+void mark_without_elevation(RoadGraph& graph);
 
 /// The per-segment part of compute_terrain on one model covering every segment (tests).
 void assign_terrain(RoadGraph& graph, const TerrainModel& model,
