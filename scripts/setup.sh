@@ -23,10 +23,19 @@ packages=(
   osmium-tool gdal-bin sqlite3 time bc gnuplot-nox
   # the fuzzing campaign (scripts/fuzz.sh): clang with libFuzzer's runtime (libclang_rt.fuzzer)
   clang libclang-rt-14-dev
+  # GDAL's GeoPackage validator (osgeo_utils/samples/validate_gpkg.py) checks every test map
+  python3-gdal
   # type-checks the Python examples of docs/embedding.md against python/roadcross.pyi
   python3-mypy
   # the viewer's test loads the page in headless Chromium
   chromium
+  # the QGIS test loads a map with its default styles in headless QGIS (python3-qgis brings
+  # QGIS's core library; qgis-providers reads GeoPackages); about 165 packages with
+  # --no-install-recommends, installed here once rather than in the test so that the test
+  # stays fast and works offline
+  python3-qgis qgis-providers
+  # `pip install .` of the Python module, offline, with Debian's build front end
+  python3-build python3-venv python3-pip python3-setuptools python3-wheel
   # ROS1 node (ros/): roscpp, the message packages it uses (headers and .msg definitions),
   # gencpp/genpy to generate the node's C++ and Python messages, and for its test rosmaster,
   # roslaunch and rospy with the Python sensor/geometry messages

@@ -8,6 +8,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "cli_conventions.hpp"
 #include "roadcross/preprocess/build.hpp"
 #include "roadcross/preprocess/common/errors.hpp"
 #include "roadcross/preprocess/common/interrupt.hpp"
@@ -57,7 +58,8 @@ void print_json_summary(const rp::BuildOptions& options, const rp::BuildSummary&
   out["stages"] = stages;
   out["seconds"] = s.seconds;
   out["peak_rss_mib"] = static_cast<double>(s.peak_rss_kib) / 1024.0;
-  std::cout << out.dump(2) << "\n";
+  // Paths may be any bytes: replaced in the JSON (which must be UTF-8), never fatal.
+  std::cout << out.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) << "\n";
 }
 
 /// Parameters from --config FILE, with every --section.name flag given on the command line
@@ -135,7 +137,11 @@ int main(int argc, char** argv) {
   app.add_flag("-q,--quiet", quiet, "no progress output and no summary");
   bool json = false;
   app.add_flag("--json", json, "print the final summary as JSON on stdout");
-  CLI11_PARSE(app, argc, argv);
+  if (const std::optional<int> status =
+          roadcross::cli::parse_command_line(app, argc, argv, "roadcross-build")) {
+    return *status;
+  }
+  using roadcross::cli::print_error;
   try {
     if (!config_path.empty()) apply_config_file(app, config_path, options.parameters);
     if (print_config) {
@@ -144,15 +150,16 @@ int main(int argc, char** argv) {
       return 0;
     }
   } catch (const rp::ParameterError& e) {
-    std::cerr << "roadcross-build: invalid parameter: " << e.what() << "\n";
-    return 2;
+    print_error("roadcross-build", std::string("invalid parameter: ") + e.what(),
+                "invalid_parameter");
+    return roadcross::cli::kUsageExitStatus;
   } catch (const std::exception& e) {
-    std::cerr << "roadcross-build: error: " << e.what() << "\n";
+    print_error("roadcross-build", std::string("error: ") + e.what(), "error");
     return 1;
   }
   if (options.output_path.empty()) {
-    std::cerr << "roadcross-build: -o/--output: an empty name is not a file\n";
-    return 2;
+    print_error("roadcross-build", "-o/--output: an empty name is not a file", "usage");
+    return roadcross::cli::kUsageExitStatus;
   }
 
   if (!osm_paths.empty()) {
@@ -189,10 +196,11 @@ int main(int argc, char** argv) {
     }
     return 0;
   } catch (const rp::ParameterError& e) {
-    std::cerr << "roadcross-build: invalid parameter: " << e.what() << "\n";
-    return 2;
+    print_error("roadcross-build", std::string("invalid parameter: ") + e.what(),
+                "invalid_parameter");
+    return roadcross::cli::kUsageExitStatus;
   } catch (const std::exception& e) {
-    std::cerr << "roadcross-build: error: " << e.what() << "\n";
+    print_error("roadcross-build", std::string("error: ") + e.what(), "error");
     return 1;
   }
 }

@@ -20,8 +20,10 @@ std::string int_or_dash(const std::optional<int>& value) {
   return value ? std::to_string(*value) : std::string("-");
 }
 
-/// The answer as text or JSON; `source` names the map of a set that gave it (null for one map).
-int print_assessment(const Assessment& a, const MapSource* source, bool json);
+/// The answer as text or JSON. `zone`: the answering map's UTM zone; `source` names the map of
+/// a set that gave it (null for one map); `hint` a note on the position (swapped lat/lon).
+int print_assessment(const Assessment& a, const geo::UtmZone& zone, const MapSource* source,
+                     const std::optional<std::string>& hint, bool json);
 
 }  // namespace
 
@@ -44,22 +46,31 @@ int AssessCommand::run() {
     if (!set) return 1;
     const auto result = set->assess(query_.position(), options_);
     if (!result.ok()) return report_error(result.status);
-    return print_assessment(result->answer, &result->map, query_.json);
+    return print_assessment(result->answer, set->map(result->map.index).info().zone,
+                            &result->map, std::nullopt, query_.json);
   }
   std::optional<Map> map = open_map_or_report(query_.db_path());
   if (!map) return 1;
   const Result<Assessment> result = map->assess(query_.position(), options_);
-  if (!result.ok()) return report_error(result.status);
-  return print_assessment(*result, nullptr, query_.json);
+  if (!result.ok()) return query_.report_error(*map, result.status);
+  std::optional<std::string> hint;
+  if (!result->valid) hint = query_.swapped_lat_lon_hint(*map);
+  return print_assessment(*result, map->info().zone, nullptr, hint, query_.json);
 }
 
 namespace {
 
-int print_assessment(const Assessment& a, const MapSource* source, bool json) {
+int print_assessment(const Assessment& a, const geo::UtmZone& zone, const MapSource* source,
+                     const std::optional<std::string>& hint, bool json) {
   if (json) {
-    std::cout << json_text(with_map_source(assessment_json(a), source), 2) << "\n";
+    nlohmann::ordered_json out = with_map_source(assessment_json(a, zone), source);
+    if (hint) out["hint"] = *hint;
+    std::cout << json_text(out, 2) << "
+";
     return 0;
   }
+  if (hint) std::fprintf(stderr, "roadcross: note: %s
+", hint->c_str());
   if (source) print_map_source(*source);
   const std::string name = a.road.name.empty() ? "(unnamed)" : a.road.name;
   std::printf("%s\n", a.suitable ? "SUITABLE place to cross"

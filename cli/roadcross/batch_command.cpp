@@ -52,26 +52,30 @@ Position position_of(const nlohmann::json& request) {
 }
 
 template <typename T, typename ToJson>
-nlohmann::ordered_json answer(const Result<T>& result, ToJson&& to_json) {
+nlohmann::ordered_json answer(const Result<T>& result, ToJson&& to_json, const Map& map) {
   nlohmann::ordered_json out;
   out["ok"] = result.ok();
   if (result.ok()) {
-    out["result"] = to_json(*result);
+    out["result"] = to_json(*result, map.info().zone);
   } else {
     out["error"] = result.status.message;
+    out["code"] = to_string(result.status.code);
   }
   return out;
 }
 
 /// A set's answer: the map's answer with the map that gave it.
 template <typename T, typename ToJson>
-nlohmann::ordered_json answer(const Result<FromMap<T>>& result, ToJson&& to_json) {
+nlohmann::ordered_json answer(const Result<FromMap<T>>& result, ToJson&& to_json,
+                              const MapSet& set) {
   nlohmann::ordered_json out;
   out["ok"] = result.ok();
   if (result.ok()) {
-    out["result"] = with_map_source(to_json(result->answer), &result->map);
+    const geo::UtmZone& zone = set.map(result->map.index).info().zone;
+    out["result"] = with_map_source(to_json(result->answer, zone), &result->map);
   } else {
     out["error"] = result.status.message;
+    out["code"] = to_string(result.status.code);
   }
   return out;
 }
@@ -87,14 +91,14 @@ nlohmann::ordered_json handle(Maps& map, const nlohmann::json& request) {
     assess.valid_distance_m = request.at("valid_distance_m").get<double>();
   if (request.contains("max_kerb_height_m"))
     assess.max_kerb_height_m = request.at("max_kerb_height_m").get<double>();
-  if (op == "assess") return answer(map.assess(position, assess), assessment_json);
-  if (op == "heading") return answer(map.road_heading(position), heading_json);
-  if (op == "nearest") return answer(map.nearest(position), road_json);
+  if (op == "assess") return answer(map.assess(position, assess), assessment_json, map);
+  if (op == "heading") return answer(map.road_heading(position), heading_json, map);
+  if (op == "nearest") return answer(map.nearest(position), road_json, map);
   if (op == "better") {
     BetterPlaceOptions options;
     options.assess = assess;
     options.search_radius_m = request.value("radius_m", options.search_radius_m);
-    return answer(map.better_place(position, options), better_places_json);
+    return answer(map.better_place(position, options), better_places_json, map);
   }
   throw std::invalid_argument("unknown op '" + op + "' (assess, better, heading, nearest)");
 }
@@ -109,6 +113,7 @@ std::string answer_line(Maps& maps, const std::string& line, long number, bool& 
   } catch (const std::exception& e) {
     out["ok"] = false;
     out["error"] = std::string("line ") + std::to_string(number) + ": " + e.what();
+    out["code"] = "invalid_request";
   }
   failed = !out["ok"].get<bool>();
   nlohmann::ordered_json numbered;

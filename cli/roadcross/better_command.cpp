@@ -26,10 +26,13 @@ BetterCommand::BetterCommand(CLI::App& parent) {
 
 namespace {
 
-/// The answer as text or JSON; `source` names the map of a set that gave it (null for one map).
-int print_better_places(const BetterPlaces& places, const MapSource* source, bool json) {
+/// The answer as text or JSON. `zone`: the answering map's UTM zone; `source` names the map of
+/// a set that gave it (null for one map).
+int print_better_places(const BetterPlaces& places, const geo::UtmZone& zone,
+                        const MapSource* source, bool json) {
   if (json) {
-    std::cout << json_text(with_map_source(better_places_json(places), source), 2) << "\n";
+    std::cout << json_text(with_map_source(better_places_json(places, zone), source), 2) << "
+";
     return 0;
   }
   if (source) print_map_source(*source);
@@ -56,13 +59,14 @@ int BetterCommand::run() {
     if (!set) return 1;
     const auto result = set->better_place(query_.position(), options_);
     if (!result.ok()) return report_error(result.status);
-    return print_better_places(result->answer, &result->map, query_.json);
+    return print_better_places(result->answer, set->map(result->map.index).info().zone,
+                               &result->map, query_.json);
   }
   std::optional<Map> map = open_map_or_report(query_.db_path());
   if (!map) return 1;
   const Result<BetterPlaces> result = map->better_place(query_.position(), options_);
-  if (!result.ok()) return report_error(result.status);
-  return print_better_places(*result, nullptr, query_.json);
+  if (!result.ok()) return query_.report_error(*map, result.status);
+  return print_better_places(*result, map->info().zone, nullptr, query_.json);
 }
 
 }  // namespace roadcross::cli

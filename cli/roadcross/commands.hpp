@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "cli_conventions.hpp"
 #include "position_options.hpp"
 #include "roadcross/gap.hpp"
 #include "roadcross/simulate.hpp"
@@ -22,7 +23,7 @@ class Command {
   CLI::App* app_ = nullptr;
 };
 
-/// roadcross info DB: zone, counts, extent, parameters and inputs.
+/// roadcross info --db DB: zone, counts, extent, parameters and inputs.
 class InfoCommand : public Command {
  public:
   explicit InfoCommand(CLI::App& parent);
@@ -30,6 +31,7 @@ class InfoCommand : public Command {
 
  private:
   std::string db_path_;
+  std::string positional_path_;
   bool json_ = false;
 };
 

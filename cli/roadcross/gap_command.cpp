@@ -163,10 +163,7 @@ int GapCommand::run() {
   std::optional<Map> map = open_map_or_report(query_.db_path());
   if (!map) return 1;
   const Result<GapCrossing> crossing = gap_crossing(*map, query_.position());
-  if (!crossing.ok()) {
-    std::cerr << "roadcross: " << crossing.status.message << "\n";
-    return 1;
-  }
+  if (!crossing.ok()) return query_.report_error(*map, crossing.status);
   std::vector<TrackedVehicle> vehicles;
   std::vector<int> lines;  // input line of each vehicle, for the user
   std::string text;
@@ -176,17 +173,14 @@ int GapCommand::run() {
       vehicles.push_back(parse_vehicle(nlohmann::json::parse(text), 0.0));
       lines.push_back(line);
     } catch (const std::exception& e) {
-      std::cerr << "roadcross: stdin line " << line << ": " << e.what() << "\n";
-      return 1;
+      return report_error(Status{StatusCode::invalid_argument,
+                                 "stdin line " + std::to_string(line) + ": " + e.what()});
     }
   }
   const Result<GapDecision> d =
       policy_ == "hcm" ? hcm_gap_decision(*crossing, robot_, vehicles, 0.0, options_, hcm_)
                        : gap_decision(*crossing, robot_, vehicles, 0.0, options_);
-  if (!d.ok()) {
-    std::cerr << "roadcross: " << d.status.message << "\n";
-    return 1;
-  }
+  if (!d.ok()) return report_error(d.status);
   if (query_.json) {
     std::cout << json_text(decision_json(*d, *crossing, lines), 2) << "\n";
   } else {

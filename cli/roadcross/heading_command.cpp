@@ -16,10 +16,13 @@ HeadingCommand::HeadingCommand(CLI::App& parent) {
 
 namespace {
 
-/// The answer as text or JSON; `source` names the map of a set that gave it (null for one map).
-int print_heading(const RoadHeading& heading, const MapSource* source, bool json) {
+/// The answer as text or JSON. `zone`: the answering map's UTM zone; `source` names the map of
+/// a set that gave it (null for one map).
+int print_heading(const RoadHeading& heading, const geo::UtmZone& zone, const MapSource* source,
+                  bool json) {
   if (json) {
-    std::cout << json_text(with_map_source(heading_json(heading), source), 2) << "\n";
+    std::cout << json_text(with_map_source(heading_json(heading, zone), source), 2) << "
+";
     return 0;
   }
   if (source) print_map_source(*source);
@@ -34,8 +37,7 @@ int print_heading(const RoadHeading& heading, const MapSource* source, bool json
   std::printf("frame     UTM grid; add %+.5f rad for a yaw from true east\n",
               heading.convergence_rad);
   if (heading.heading_spread_rad) {
-    std::printf("spread    %.4f rad (%.1f deg) over the position's region
-",
+    std::printf("spread    %.4f rad (%.1f deg) over the position's region\n",
                 *heading.heading_spread_rad, geo::rad_to_deg(*heading.heading_spread_rad));
   }
   return 0;
@@ -49,13 +51,14 @@ int HeadingCommand::run() {
     if (!set) return 1;
     const auto heading = set->road_heading(query_.position(), max_distance_m_);
     if (!heading.ok()) return report_error(heading.status);
-    return print_heading(heading->answer, &heading->map, query_.json);
+    return print_heading(heading->answer, set->map(heading->map.index).info().zone, &heading->map,
+                         query_.json);
   }
   std::optional<Map> map = open_map_or_report(query_.db_path());
   if (!map) return 1;
   const Result<RoadHeading> heading = map->road_heading(query_.position(), max_distance_m_);
-  if (!heading.ok()) return report_error(heading.status);
-  return print_heading(*heading, nullptr, query_.json);
+  if (!heading.ok()) return query_.report_error(*map, heading.status);
+  return print_heading(*heading, map->info().zone, nullptr, query_.json);
 }
 
 }  // namespace roadcross::cli

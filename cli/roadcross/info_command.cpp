@@ -11,8 +11,19 @@ namespace roadcross::cli {
 InfoCommand::InfoCommand(CLI::App& parent) {
   app_ = parent.add_subcommand(
       "info", "show a map's UTM zone, extent, segment count, parameters and inputs");
-  app_->add_option("db", db_path_, "roadcross GeoPackage")->required();
+  // --db like every other subcommand; the bare path (the older form) still works.
+  CLI::Option* db = app_->add_option("--db", db_path_, "roadcross GeoPackage");
+  CLI::Option* positional =
+      app_->add_option("map", positional_path_, "roadcross GeoPackage (same as --db)");
+  db->excludes(positional);
+  app_->callback([this] {
+    if (db_path_.empty() && positional_path_.empty()) {
+      throw CLI::ValidationError("info", "give the map with --db MAP");
+    }
+    if (db_path_.empty()) db_path_ = positional_path_;
+  });
   app_->add_flag("--json", json_, "print JSON instead of text");
+  app_->footer("Example:\n  roadcross info --db prague.gpkg --json");
 }
 
 int InfoCommand::run() {
@@ -34,6 +45,13 @@ int InfoCommand::run() {
     out["segment_count"] = info.segment_count;
     out["extent_utm_m"] = {info.min_easting_m, info.min_northing_m, info.max_easting_m,
                            info.max_northing_m};
+    // The UTM box's corners in latitude/longitude: south-west and north-east (the box in
+    // degrees that holds the map is a little larger where the grid is rotated).
+    nlohmann::ordered_json south_west =
+        lat_lon_json(info.zone, PlanePoint{info.min_easting_m, info.min_northing_m});
+    nlohmann::ordered_json north_east =
+        lat_lon_json(info.zone, PlanePoint{info.max_easting_m, info.max_northing_m});
+    out["extent_lat_lon_deg"] = {south_west[0], south_west[1], north_east[0], north_east[1]};
     // Built in one pass: the rows come sorted with unique keys (the table's primary key), and
     // inserting key by key would search the ordered object each time (quadratic in the rows).
     out["metadata"] = nlohmann::ordered_json::object_t(info.metadata.begin(), info.metadata.end());

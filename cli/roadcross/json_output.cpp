@@ -1,7 +1,19 @@
 #include "json_output.hpp"
 
+#include <cmath>
+
+#include "roadcross/geo.hpp"
+
 namespace roadcross::cli {
-nlohmann::ordered_json road_json(const NearestRoad& road) {
+
+nlohmann::ordered_json lat_lon_json(const geo::UtmZone& zone, const PlanePoint& point) {
+  const geo::LatLon p = geo::utm_to_wgs84(point.easting_m, point.northing_m, zone);
+  // 7 decimals of a degree: about 1 cm, finer than any position in a map.
+  const auto round7 = [](double deg) { return std::round(deg * 1e7) / 1e7; };
+  return {round7(p.lat_deg), round7(p.lon_deg)};
+}
+
+nlohmann::ordered_json road_json(const NearestRoad& road, const geo::UtmZone& zone) {
   nlohmann::ordered_json out;
   out["segment_id"] = road.segment_id;
   out["osm_way_id"] = road.osm_way_id;
@@ -9,12 +21,14 @@ nlohmann::ordered_json road_json(const NearestRoad& road) {
   out["name"] = road.name;
   out["distance_m"] = road.distance_m;
   out["query_utm_m"] = {road.query.easting_m, road.query.northing_m};
+  out["query_lat_lon_deg"] = lat_lon_json(zone, road.query);
   out["closest_utm_m"] = {road.closest.easting_m, road.closest.northing_m};
+  out["closest_lat_lon_deg"] = lat_lon_json(zone, road.closest);
   return out;
 }
 
-nlohmann::ordered_json heading_json(const RoadHeading& h) {
-  nlohmann::ordered_json out = road_json(h.road);
+nlohmann::ordered_json heading_json(const RoadHeading& h, const geo::UtmZone& zone) {
+  nlohmann::ordered_json out = road_json(h.road, zone);
   out["road_heading_rad"] = h.road_heading_rad;
   out["road_bearing_deg"] = h.road_bearing_deg;
   out["crossing_heading_rad"] = h.crossing_heading_rad;
@@ -38,7 +52,7 @@ nlohmann::ordered_json region_json(const UncertaintyRegion& r) {
   return out;
 }
 
-nlohmann::ordered_json assessment_json(const Assessment& a) {
+nlohmann::ordered_json assessment_json(const Assessment& a, const geo::UtmZone& zone) {
   nlohmann::ordered_json out;
   out["valid"] = a.valid;
   out["suitable"] = a.suitable;
@@ -48,6 +62,7 @@ nlohmann::ordered_json assessment_json(const Assessment& a) {
   out["name"] = a.road.name;
   out["distance_m"] = a.road.distance_m;
   out["closest_utm_m"] = {a.road.closest.easting_m, a.road.closest.northing_m};
+  out["closest_lat_lon_deg"] = lat_lon_json(zone, a.road.closest);
   out["score"] = or_null(a.score);
   out["context_score"] = or_null(a.context_score);
   out["threshold"] = a.threshold;
@@ -83,11 +98,12 @@ nlohmann::ordered_json assessment_json(const Assessment& a) {
   return out;
 }
 
-nlohmann::ordered_json better_places_json(const BetterPlaces& places) {
+nlohmann::ordered_json better_places_json(const BetterPlaces& places, const geo::UtmZone& zone) {
   nlohmann::ordered_json out;
   out["candidates"] = nlohmann::ordered_json::array();
   for (const Candidate& c : places.candidates) {
     out["candidates"].push_back({{"point_utm_m", {c.point.easting_m, c.point.northing_m}},
+                                 {"point_lat_lon_deg", lat_lon_json(zone, c.point)},
                                  {"walking_distance_m", c.walking_distance_m},
                                  {"segment_id", c.segment_id},
                                  {"suitable", c.suitable},

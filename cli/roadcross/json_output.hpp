@@ -26,11 +26,17 @@ std::string json_text(const Json& value, int indent = -1) {
   return value.dump(indent, ' ', false, Json::error_handler_t::replace);
 }
 
-nlohmann::ordered_json road_json(const NearestRoad& road);
-nlohmann::ordered_json heading_json(const RoadHeading& heading);
+/// [latitude, longitude] in WGS84 degrees of a UTM point of the map's `zone`: every answer that
+/// gives a position in UTM gives it in latitude/longitude beside it ("..._lat_lon_deg").
+nlohmann::ordered_json lat_lon_json(const geo::UtmZone& zone, const PlanePoint& point);
+
+// The answers; `zone` is the UTM zone of the map that answered (for the latitude/longitude
+// fields).
+nlohmann::ordered_json road_json(const NearestRoad& road, const geo::UtmZone& zone);
+nlohmann::ordered_json heading_json(const RoadHeading& heading, const geo::UtmZone& zone);
 nlohmann::ordered_json region_json(const UncertaintyRegion& region);
-nlohmann::ordered_json assessment_json(const Assessment& assessment);
-nlohmann::ordered_json better_places_json(const BetterPlaces& places);
+nlohmann::ordered_json assessment_json(const Assessment& assessment, const geo::UtmZone& zone);
+nlohmann::ordered_json better_places_json(const BetterPlaces& places, const geo::UtmZone& zone);
 /// {"path": ..., "map_id": ... or null}: which map of a set answered.
 nlohmann::ordered_json map_source_json(const MapSource& source);
 /// `answer` with a "map" member naming the map of a set that gave it (when `source` is set).

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_conventions.hpp"
 #include "commands.hpp"
 #include "roadcross/version.hpp"
 #include "viz_command_list.hpp"
@@ -30,9 +31,11 @@ int run_viz_command(const std::string& command, const std::vector<std::string>& 
   for (std::string& word : words) argv.push_back(word.data());
   argv.push_back(nullptr);
   ::execv(program.c_str(), argv.data());
-  std::cerr << "roadcross " << command << ": cannot run " << program.string() << " ("
-            << std::strerror(errno) << "); the drawing commands come with the full build "
-            << "(cmake --preset release) and the roadcross-tools package\n";
+  roadcross::cli::print_error("roadcross " + command,
+                              "cannot run " + program.string() + " (" + std::strerror(errno) +
+                                  "); the drawing commands come with the full build (cmake "
+                                  "--preset release) and the roadcross-tools package",
+                              "not_installed");
   return 1;
 }
 
@@ -42,7 +45,7 @@ int main(int argc, char** argv) {
   CLI::App app{
       "roadcross: ask a roadcross map where and how to cross a road.\n\n"
       "Examples:\n"
-      "  roadcross info prague.gpkg\n"
+      "  roadcross info --db prague.gpkg\n"
       "  roadcross verify --db prague.gpkg --expect-id 3f1c...\n"
       "  roadcross install new-prague.gpkg /var/lib/robot/prague.gpkg\n"
       "  roadcross nearest --db prague.gpkg --lat 50.0755 --lon 14.4186\n"
@@ -80,7 +83,10 @@ int main(int argc, char** argv) {
     viz_commands.push_back(sub);
   }
 #endif
-  CLI11_PARSE(app, argc, argv);
+  if (const std::optional<int> status =
+          roadcross::cli::parse_command_line(app, argc, argv, "roadcross")) {
+    return *status;
+  }
   for (const auto& command : commands) {
     if (command->app()->parsed()) return command->run();
   }

@@ -28,15 +28,9 @@ int MonitorCommand::run() {
   std::optional<Map> map = open_map_or_report(query_.db_path());
   if (!map) return 1;
   const Result<CrossingPlan> plan = plan_crossing(*map, query_.position());
-  if (!plan.ok()) {
-    std::cerr << "roadcross: " << plan.status.message << "\n";
-    return 1;
-  }
+  if (!plan.ok()) return query_.report_error(*map, plan.status);
   const Result<CrossingProgress> p = monitor(*plan, Pose{{at_utm_[0], at_utm_[1]}, yaw_rad_});
-  if (!p.ok()) {
-    std::cerr << "roadcross: " << p.status.message << "\n";
-    return 1;
-  }
+  if (!p.ok()) return report_error(p.status);
   if (query_.json) {
     nlohmann::ordered_json out;
     out["state"] = to_string(p->state);
@@ -44,7 +38,9 @@ int MonitorCommand::run() {
     out["lateral_deviation_m"] = p->lateral_deviation_m;
     out["heading_error_rad"] = p->heading_error_rad;
     out["plan_start_utm_m"] = {plan->start.easting_m, plan->start.northing_m};
+    out["plan_start_lat_lon_deg"] = lat_lon_json(map->info().zone, plan->start);
     out["plan_target_utm_m"] = {plan->target.easting_m, plan->target.northing_m};
+    out["plan_target_lat_lon_deg"] = lat_lon_json(map->info().zone, plan->target);
     out["plan_heading_rad"] = plan->heading_rad;
     std::cout << json_text(out, 2) << "\n";
     return 0;

@@ -20,7 +20,7 @@ namespace {
 int print_nearest(const NearestRoad& road, const geo::UtmZone& zone, const MapSource* source,
                   bool json) {
   if (json) {
-    std::cout << json_text(with_map_source(road_json(road), source), 2) << "\n";
+    std::cout << json_text(with_map_source(road_json(road, zone), source), 2) << "\n";
     return 0;
   }
   if (source) print_map_source(*source);
@@ -45,7 +45,7 @@ int NearestCommand::run() {
   std::optional<Map> map = open_map_or_report(query_.db_path());
   if (!map) return 1;
   const Result<NearestRoad> road = map->nearest(query_.position(), max_distance_m_);
-  if (!road.ok()) return report_error(road.status);
+  if (!road.ok()) return query_.report_error(*map, road.status);
   return print_nearest(*road, map->info().zone, nullptr, query_.json);
 }
 

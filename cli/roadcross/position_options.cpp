@@ -6,6 +6,9 @@
 #include <filesystem>
 #include <iostream>
 
+#include "cli_conventions.hpp"
+#include "roadcross/geo.hpp"
+
 namespace roadcross::cli {
 
 void QueryOptions::add_to(CLI::App& command) {
@@ -103,10 +106,39 @@ void print_map_source(const MapSource& source) {
               source.map_id.empty() ? "" : (" (id " + source.map_id + ")").c_str());
 }
 
+std::optional<std::string> QueryOptions::swapped_lat_lon_hint(const Map& map) const {
+  if (!lat_deg || !lon_deg) return std::nullopt;
+  const MapInfo& info = map.info();
+  const auto inside = [&](double lat, double lon) {
+    if (!geo::is_valid_utm_lat_lon(lat, lon)) return false;
+    try {
+      const geo::UtmPoint p = geo::wgs84_to_utm(lat, lon, info.zone);
+      return p.easting_m >= info.min_easting_m && p.easting_m <= info.max_easting_m &&
+             p.northing_m >= info.min_northing_m && p.northing_m <= info.max_northing_m;
+    } catch (const std::exception&) {
+      return false;  // too far from the map's zone to project: not inside it either
+    }
+  };
+  if (inside(*lat_deg, *lon_deg) || !inside(*lon_deg, *lat_deg)) return std::nullopt;
+  char text[200];
+  std::snprintf(text, sizeof text,
+                "--lat %.7g --lon %.7g is outside the map, but --lat %.7g --lon %.7g is inside "
+                "it: are latitude and longitude swapped?",
+                *lat_deg, *lon_deg, *lon_deg, *lat_deg);
+  return std::string(text);
+}
+
+int QueryOptions::report_error(const Map& map, const Status& status) const {
+  if (const std::optional<std::string> hint = swapped_lat_lon_hint(map)) {
+    return cli::report_error(Status{status.code, status.message + "; " + *hint});
+  }
+  return cli::report_error(status);
+}
+
 std::optional<Map> open_map_or_report(const std::string& path) {
   Result<Map> map = Map::open(path);
   if (!map.ok()) {
-    std::cerr << "roadcross: " << map.status.message << "\n";
+    report_error(map.status);
     return std::nullopt;
   }
   return std::move(*map.value);
@@ -119,7 +151,7 @@ std::string road_label(const NearestRoad& road) {
 }
 
 int report_error(const Status& status) {
-  std::cerr << "roadcross: " << status.message << "\n";
+  print_error("roadcross", status.message, to_string(status.code));
   return 1;
 }
 

@@ -34,6 +34,11 @@ struct QueryOptions {
   bool uses_set() const;
   /// The first --db (the one map when !uses_set()).
   const std::string& db_path() const { return db_paths.front(); }
+  /// When --lat/--lon lie outside the map's extent but would lie inside it swapped, a sentence
+  /// saying so; else nullopt.
+  std::optional<std::string> swapped_lat_lon_hint(const Map& map) const;
+  /// report_error, with the swapped-coordinates hint when it applies.
+  int report_error(const Map& map, const Status& status) const;
 };
 
 /// Opens the DB or prints the runtime's message and returns nullopt.
@@ -48,7 +53,7 @@ void print_map_source(const MapSource& source);
 /// "Name (highway, OSM way W, segment S)" for the text answers.
 std::string road_label(const NearestRoad& road);
 
-/// Prints the runtime's error on stderr; returns the exit code 1.
+/// Prints the runtime's error (on stderr, or as JSON under --json); returns the exit code 1.
 int report_error(const Status& status);
 
 }  // namespace roadcross::cli

@@ -93,7 +93,7 @@ bool print_runs(const sim::Scenario& s, const std::string& policy, double volume
   for (int i = 0; i < runs; ++i) {
     const Result<sim::RunMetrics> r = sim::simulate_run(s, sim::run_seed(seed, i));
     if (!r.ok()) {
-      std::cerr << "roadcross: " << r.status.message << "\n";
+      report_error(r.status);
       return false;
     }
     nlohmann::ordered_json out;
@@ -127,8 +127,8 @@ int SimulateCommand::run() {
   std::string place = label_.empty() ? "synthetic" : label_;
   if (!db_path_.empty()) {
     if (utm_.empty() && !lat_deg_) {
-      std::cerr << "roadcross: simulate --db needs a place: --utm E N or --lat/--lon\n";
-      return 1;
+      print_error("roadcross simulate", "--db needs a place: --utm E N or --lat/--lon", "usage");
+      return kUsageExitStatus;
     }
     std::optional<Map> map = open_map_or_report(db_path_);
     if (!map) return 1;
@@ -137,9 +137,7 @@ int SimulateCommand::run() {
     const Result<GapCrossing> crossing = gap_crossing(*map, position);
     const Result<Assessment> assessment = map->assess(position);
     if (!crossing.ok() || !assessment.ok()) {
-      std::cerr << "roadcross: "
-                << (crossing.ok() ? assessment.status.message : crossing.status.message) << "\n";
-      return 1;
+      return report_error(crossing.ok() ? assessment.status : crossing.status);
     }
     road.lanes = crossing->lanes;
     road.width_m = crossing->road_width_m;
@@ -176,8 +174,7 @@ int SimulateCommand::run() {
         }
         const Result<sim::Aggregate> a = sim::simulate(s, runs_, seed_);
         if (!a.ok()) {
-          std::cerr << "roadcross: " << a.status.message << "\n";
-          return 1;
+          return report_error(a.status);
         }
         rows.push_back({label, volume, *a});
       }

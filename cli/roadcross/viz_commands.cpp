@@ -5,6 +5,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "cli_conventions.hpp"
 #include "json_output.hpp"
 #include "viz_command_list.hpp"
 
@@ -26,7 +27,7 @@ int report_errors(const char* command, Work&& work) {
   try {
     return work();
   } catch (const std::exception& e) {
-    std::cerr << "roadcross " << command << ": " << e.what() << "\n";
+    print_error(std::string("roadcross ") + command, e.what(), "error");
     return 1;
   }
 }

@@ -6,6 +6,7 @@
 #include <memory>
 #include <vector>
 
+#include "cli_conventions.hpp"
 #include "roadcross/version.hpp"
 #include "viz_commands.hpp"
 
@@ -21,7 +22,10 @@ int main(int argc, char** argv) {
   commands.push_back(std::make_unique<roadcross::cli::RenderCommand>(app));
   commands.push_back(std::make_unique<roadcross::cli::ExportCommand>(app));
   commands.push_back(std::make_unique<roadcross::cli::ViewCommand>(app));
-  CLI11_PARSE(app, argc, argv);
+  if (const std::optional<int> status =
+          roadcross::cli::parse_command_line(app, argc, argv, "roadcross")) {
+    return *status;
+  }
   for (const auto& command : commands) {
     if (command->app()->parsed()) return command->run();
   }

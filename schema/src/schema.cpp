@@ -18,10 +18,10 @@ std::vector<Column> make_segment_columns() {
        "road-graph node at the first vertex: the OSM node id, or a negative id for a split point "
        "inside a way"},
       {"to_node_id", "INTEGER NOT NULL", "road-graph node at the last vertex (same convention)"},
-      {"oneway", "INTEGER NOT NULL",
+      {"oneway", "BOOLEAN NOT NULL",
        "1 when the way is one-way (oneway=yes/1/true/-1, roundabout)"},
-      {"tunnel", "INTEGER NOT NULL", "1 in a tunnel, building passage or covered=yes"},
-      {"bridge", "INTEGER NOT NULL", "1 on a bridge"},
+      {"tunnel", "BOOLEAN NOT NULL", "1 in a tunnel, building passage or covered=yes"},
+      {"bridge", "BOOLEAN NOT NULL", "1 on a bridge"},
       // Geometry cost (road class, junctions, curvature).
       {"class_cost", "INTEGER", "road class cost 0..5 (primary 5 .. unclassified 1)"},
       {"junction_distance_m", "REAL",
@@ -47,9 +47,9 @@ std::vector<Column> make_segment_columns() {
        "distance along the road to the nearest designated crossing, metres"},
       {"context_defaulted", "TEXT", "comma-separated context inputs that took a default"},
       {"override_note", "TEXT", "note of the operator override applied to this segment"},
-      {"override_no_crossing", "INTEGER NOT NULL DEFAULT 0",
+      {"override_no_crossing", "BOOLEAN NOT NULL DEFAULT 0",
        "1 when an operator override forbids crossing here (never suitable)"},
-      {"override_force_suitable", "INTEGER NOT NULL DEFAULT 0",
+      {"override_force_suitable", "BOOLEAN NOT NULL DEFAULT 0",
        "1 when an operator override declares this segment suitable whatever its score"},
       // Result.
       {"rank", "INTEGER", "0..14, higher is worse"},
@@ -144,8 +144,8 @@ const std::vector<Column>& crossing_columns() {
        "crossing=* value (zebra, marked, uncontrolled, traffic_signals, unmarked, informal, no, "
        "...), else crossing_ref, else marked/unmarked from crossing:markings, else "
        "'unspecified'"},
-      {"signals", "INTEGER NOT NULL", "1 when controlled by traffic signals"},
-      {"designated", "INTEGER NOT NULL",
+      {"signals", "BOOLEAN NOT NULL", "1 when controlled by traffic signals"},
+      {"designated", "BOOLEAN NOT NULL",
        "1 when it earns the crossing bonus (0 for crossing=informal and crossing=no)"},
       {"segment_id", "INTEGER NOT NULL", "fid of the segment the crossing lies on"},
   };
@@ -220,6 +220,29 @@ std::vector<std::string> feature_table_statements(std::string_view table, std::s
   };
 }
 
+/// One gpkg_data_columns row per attribute column of `table`: its description (with unit) for
+/// GIS programs (GeoPackage schema extension, spec 1.3 F.9). `name` is the column's own name.
+std::vector<std::string> data_column_statements(std::string_view table,
+                                                const std::vector<Column>& columns) {
+  std::vector<std::string> statements;
+  const auto row = [&](std::string_view column, std::string_view description) {
+    statements.push_back(
+        "INSERT INTO gpkg_data_columns (table_name, column_name, name, title, "
+        "description) VALUES (" +
+        quote(table) + ", " + quote(column) + ", " + quote(column) + ", " + quote(column) + ", " +
+        quote(description) + ")");
+  };
+  if (table == kMetadataTable) {
+    row("id", "row number (GeoPackage wants an integer key; look rows up by key)");
+  } else {
+    row("fid", table == kSegmentsTable ? "feature id (segment_id in the runtime's answers)"
+                                       : "feature id");
+    row(kGeometryColumn, "geometry in the map's UTM zone, metres");
+  }
+  for (const Column& column : columns) row(column.name, column.description);
+  return statements;
+}
+
 /// The six GeoPackage R*Tree triggers of `table`.geom (spec 1.3, F.3).
 std::vector<std::string> rtree_triggers(const std::string& t, const std::string& r) {
   const std::string c(kGeometryColumn);
@@ -273,7 +296,8 @@ std::vector<std::string> create_statements(int zone, bool northern, std::string_
           quote("WGS 84 / UTM zone " + std::to_string(zone) + (northern ? "N" : "S")) + ", " + srs +
           ", 'EPSG', " + srs + ", " + quote(utm_wkt(zone, northern)) + ", NULL)",
       "CREATE TABLE gpkg_contents (table_name TEXT NOT NULL PRIMARY KEY, data_type TEXT NOT NULL, "
-      "identifier TEXT UNIQUE, description TEXT DEFAULT '', last_change DATETIME NOT NULL, "
+      "identifier TEXT UNIQUE, description TEXT DEFAULT '', last_change DATETIME NOT NULL "
+      "DEFAULT (strftime('%Y-%m-%dT%H:%M:%fZ','now')), "
       "min_x DOUBLE, min_y DOUBLE, max_x DOUBLE, max_y DOUBLE, srs_id INTEGER, CONSTRAINT "
       "fk_gc_r_srs_id FOREIGN KEY (srs_id) REFERENCES gpkg_spatial_ref_sys(srs_id))",
       "CREATE TABLE gpkg_geometry_columns (table_name TEXT NOT NULL, column_name TEXT NOT NULL, "
@@ -286,8 +310,11 @@ std::vector<std::string> create_statements(int zone, bool northern, std::string_
       "NULL, definition TEXT NOT NULL, scope TEXT NOT NULL, CONSTRAINT ge_tce UNIQUE "
       "(table_name, column_name, extension_name))",
       // roadcross tables: the metadata here, the feature tables appended below.
+      // GeoPackage wants an INTEGER primary key on every attributes table (Req 119); readers
+      // look rows up by key, which stays unique.
       "CREATE TABLE " + std::string(kMetadataTable) +
-          " (key TEXT PRIMARY KEY NOT NULL, value TEXT NOT NULL)",
+          " (id INTEGER PRIMARY KEY NOT NULL, key TEXT NOT NULL UNIQUE, value TEXT "
+          "NOT NULL)",
       "INSERT INTO gpkg_contents (table_name, data_type, identifier, description, last_change) "
       "VALUES (" +
           quote(kMetadataTable) +
@@ -295,6 +322,32 @@ std::vector<std::string> create_statements(int zone, bool northern, std::string_
           "inputs', " +
           quote(last_change) + ")",
   };
+  // The GeoPackage schema extension: what every column means, with its unit (spec 1.3, F.9).
+  statements.push_back(
+      "CREATE TABLE gpkg_data_columns (table_name TEXT NOT NULL, column_name TEXT NOT NULL, name "
+      "TEXT, title TEXT, description TEXT, mime_type TEXT, constraint_name TEXT, CONSTRAINT "
+      "pk_gdc PRIMARY KEY (table_name, column_name), CONSTRAINT gdc_tn UNIQUE (table_name, "
+      "name))");
+  statements.push_back(
+      "CREATE TABLE gpkg_data_column_constraints (constraint_name TEXT NOT NULL, constraint_type "
+      "TEXT NOT NULL, value TEXT, min NUMERIC, min_is_inclusive BOOLEAN, max NUMERIC, "
+      "max_is_inclusive BOOLEAN, description TEXT, CONSTRAINT gdcc_ntv UNIQUE (constraint_name, "
+      "constraint_type, value))");
+  for (std::string_view table : {"gpkg_data_columns", "gpkg_data_column_constraints"}) {
+    statements.push_back(
+        "INSERT INTO gpkg_extensions VALUES (" + quote(table) +
+        ", NULL, 'gpkg_schema', 'http://www.geopackage.org/spec/#extension_schema', "
+        "'read-write')");
+  }
+  static const std::vector<Column> metadata_columns = {
+      {"key", "", "what the value is: schema_version, utm_zone, param.<section>.<name>, ..."},
+      {"value", "", "the value, as text"},
+  };
+  for (auto rows : {data_column_statements(kMetadataTable, metadata_columns),
+                    data_column_statements(kSegmentsTable, segment_columns()),
+                    data_column_statements(kCrossingsTable, crossing_columns())}) {
+    for (std::string& statement : rows) statements.push_back(std::move(statement));
+  }
   for (auto feature_table :
        {feature_table_statements(kSegmentsTable, kSegmentsRtree, "LINESTRING", segment_columns(),
                                  "road segments with crossing cost terms", srs, last_change),

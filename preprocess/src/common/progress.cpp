@@ -1,12 +1,35 @@
 #include "roadcross/preprocess/common/progress.hpp"
 
+#include "roadcross/preprocess/common/format.hpp"
+
 #include <sys/resource.h>
 
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 
 namespace roadcross::preprocess {
+
+std::string format_count(double value) {
+  if (!std::isfinite(value)) return "-";
+  char digits[400];  // %.0f of the largest double has 309 digits
+  std::snprintf(digits, sizeof digits, "%.0f", std::fabs(value));
+  std::string text(digits);
+  for (int at = static_cast<int>(text.size()) - 3; at > 0; at -= 3) {
+    text.insert(static_cast<std::size_t>(at), ",");
+  }
+  if (value < 0 && text != "0") text.insert(text.begin(), '-');
+  return text;
+}
+
+std::string format_quantity(double value) {
+  if (!std::isfinite(value)) return "-";
+  if (std::fabs(value) >= 99.95) return format_count(value);
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", value);
+  return text;
+}
 
 bool Progress::stderr_is_terminal() noexcept {
   return ::isatty(STDERR_FILENO) == 1;
@@ -36,11 +59,12 @@ void Progress::update(std::uint64_t done, std::uint64_t total) {
   if (total > 0 && done > 0) {
     const double fraction = static_cast<double>(done) / static_cast<double>(total);
     const double eta_s = elapsed_s * (1.0 - fraction) / fraction;
-    std::snprintf(text, sizeof text, " %5.1f %%  %.4g %s/s  %.0f s left", 100.0 * fraction, rate,
-                  unit_.c_str(), eta_s);
+    std::snprintf(text, sizeof text, " %5.1f %%  %s %s/s  %.0f s left", 100.0 * fraction,
+                  format_quantity(rate).c_str(), unit_.c_str(), eta_s);
   } else {
-    std::snprintf(text, sizeof text, " %.0f %s  %.4g %s/s", static_cast<double>(done) * scale,
-                  unit_.c_str(), rate, unit_.c_str());
+    std::snprintf(text, sizeof text, " %s %s  %s %s/s",
+                  format_quantity(static_cast<double>(done) * scale).c_str(), unit_.c_str(),
+                  format_quantity(rate).c_str(), unit_.c_str());
   }
   draw(stage_ + text);
 }

@@ -16,6 +16,7 @@
 #include "roadcross/preprocess/common/interrupt.hpp"
 #include "roadcross/preprocess/common/progress.hpp"
 #include "roadcross/preprocess/output/bulk_insert.hpp"
+#include "roadcross/preprocess/output/qgis_styles.hpp"
 #include "roadcross/preprocess/output/rtree_bulk_load.hpp"
 #include "roadcross/schema/gpkg_geometry.hpp"
 #include "roadcross/schema/schema.hpp"
@@ -356,6 +357,19 @@ std::optional<schema::Envelope> write_crossings(sqlite::Database& db,
   return extent;
 }
 
+/// The map's default verdict parameters, from the metadata the build records (the runtime reads
+/// the same keys).
+SuitabilityRule suitability_rule(const std::vector<std::pair<std::string, std::string>>& metadata) {
+  SuitabilityRule rule;
+  for (const auto& [key, value] : metadata) {
+    if (key == "param.suitability.threshold") rule.threshold = std::stod(value);
+    if (key == "param.sight.limited_visibility_unsuitable") {
+      rule.limited_visibility_unsuitable = std::stod(value) != 0.0;
+    }
+  }
+  return rule;
+}
+
 }  // namespace
 
 GeoPackageWriter::GeoPackageWriter(const std::string& path, const geo::UtmZone& zone,
@@ -470,8 +484,8 @@ void GeoPackageWriter::write_rows_and_metadata(const DatabaseContents& contents,
   }
   for (const std::string& statement : schema::rtree_trigger_statements()) db.exec(statement);
 
-  auto insert_meta =
-      db.prepare("INSERT INTO " + std::string(schema::kMetadataTable) + " VALUES (?, ?)");
+  auto insert_meta = db.prepare("INSERT INTO " + std::string(schema::kMetadataTable) +
+                                " (key, value) VALUES (?, ?)");
   auto put = [&](std::string_view key, const std::string& value) {
     insert_meta.bind(1, key);
     insert_meta.bind(2, value);
@@ -484,6 +498,10 @@ void GeoPackageWriter::write_rows_and_metadata(const DatabaseContents& contents,
   put(schema::meta::kSegmentCount, std::to_string(graph.segments.size()));
   for (const auto& [key, value] : coverage_metadata(zone_, segment_extent_)) put(key, value);
   for (const auto& [key, value] : contents.metadata) put(key, value);
+  for (const std::string& statement :
+       qgis_style_statements(suitability_rule(contents.metadata), contents.last_change)) {
+    db.exec(statement);
+  }
   db.exec("COMMIT");
 }
 

@@ -34,7 +34,8 @@ inline constexpr std::string_view kMetadataTable = "roadcross_metadata";
 inline constexpr std::string_view kCrossingsTable = "crossings";
 inline constexpr std::string_view kCrossingsRtree = "rtree_crossings_geom";
 
-/// Keys of the roadcross_metadata(key, value) table.
+/// Keys of the roadcross_metadata(id, key, value) table (key unique; id only because GeoPackage
+/// wants an INTEGER primary key).
 namespace meta {
 inline constexpr std::string_view kSchemaVersion = "schema_version";
 inline constexpr std::string_view kToolVersion = "tool_version";
