@@ -48,7 +48,7 @@ void check_in_box(std::int64_t fid, const std::vector<schema::PlanePoint>& point
 /// How much work one API call may make SQLite do, counted by SQLite's progress handler (every
 /// kStepsPerTick virtual-machine instructions): a bound on hostile maps whose statements would
 /// run for ever. Restarted at the start of every public Map call; far above what a query of
-/// the largest bundled map needs (docs/reliability-runtime.md).
+/// the largest bundled map needs (docs/reliability.md, "Maps as untrusted input").
 struct WorkBudget {
   static constexpr int kStepsPerTick = 4096;
   static constexpr std::uint64_t kTicksPerCall = 100000;  // ~4e8 instructions, seconds of work

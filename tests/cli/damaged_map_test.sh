@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Maps as untrusted input (docs/reliability-runtime.md): a hand-made map, copied and damaged with
+# Maps as untrusted input (docs/reliability.md, "Maps as untrusted input"): a hand-made map, copied and damaged with
 # sqlite3 one way at a time, must give the exact status (corrupt segment, hostile schema, bad
 # metadata) and never a verdict, a hang or an abort; text that is not UTF-8 must not abort any
 # JSON output; out-of-range query options must be clear errors.
