@@ -80,6 +80,11 @@ std::vector<Column> make_segment_columns() {
        "sidewalk:both, or a footway=sidewalk way alongside), 0: tagged without one; NULL when "
        "unknown"},
       {"sidewalk_right", "INTEGER", "the same on the right of the way's direction"},
+      // The verdict, stored for GIS users (schema version 4).
+      {"suitable", "BOOLEAN",
+       "1: the runtime calls the segment's centreline a suitable place to cross under the map's "
+       "default thresholds and robot profile (roadcross assess_segment: the same judge), 0: not; "
+       "a robot's own thresholds and its side of the road (NO_PAVEMENT_FAR_SIDE) may differ"},
   };
   for (Column& column : columns) {
     if (column.name.rfind("sight_", 0) == 0 || column.name == "required_sight_m") {
@@ -89,6 +94,7 @@ std::vector<Column> make_segment_columns() {
         column.name.rfind("sidewalk_", 0) == 0) {
       column.since_version = 3;
     }
+    if (column.name == "suitable") column.since_version = 4;
   }
   return columns;
 }

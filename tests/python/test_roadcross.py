@@ -11,6 +11,7 @@ ROADCROSS_BUILD (roadcross-build; absent in the runtime-only build, where the te
 map are skipped), ROADCROSS_TEST_DATA_DIR, ROADCROSS_MAPS_DIR, ROADCROSS_BINARY_DIR, CMAKE_COMMAND.
 """
 
+import contextlib
 import json
 import math
 import os
@@ -451,6 +452,38 @@ class KerbsAndIslands(unittest.TestCase):
                                        radius_m=0.5)
             self.assertEqual(d.stage, stage)
             self.assertAlmostEqual(d.crossing_time_s, crossing_time_s)
+
+
+@NEEDS_BUILD
+class StoredVerdict(unittest.TestCase):
+    """The segments' stored `suitable` column (for GIS users) is the runtime's verdict on the
+    centreline under the map's defaults: assess_segment's, segment by segment."""
+
+    def test_equals_assess_segment_on_prague(self):
+        with contextlib.closing(sqlite3.connect(prague_db)) as db:
+            rows = db.execute("SELECT fid, suitable FROM segments").fetchall()
+        with roadcross.Map(prague_db) as m:
+            differ = [fid for fid, stored in rows if bool(stored) != m.assess_segment(fid).suitable]
+        self.assertEqual(differ, [])
+        self.assertEqual(len(rows), 6049)
+        suitable = sum(1 for _, stored in rows if stored)
+        self.assertGreater(suitable, 0)
+        self.assertLess(suitable, len(rows))
+
+    def test_profile_kerb_rule(self):
+        # kerbs.osm with every score reaching the threshold and sight not forbidding: a segment
+        # is unsuitable exactly when its known kerb is higher than the profile's 0.1 m.
+        path = os.path.join(tmp.name, "kerbs-profile.gpkg")
+        subprocess.run([BUILD, "--osm", os.path.join(DATA, "kerbs.osm"), "-o", path, "-q",
+                        "--suitability.threshold", "-1000", "--sight.limited_visibility_unsuitable",
+                        "0", "--suitability.max_kerb_height_m", "0.1"], check=True)
+        with contextlib.closing(sqlite3.connect(path)) as db:
+            wrong = db.execute("SELECT COUNT(*) FROM segments WHERE suitable != "
+                               "(kerb_height_m IS NULL OR kerb_height_m <= 0.1)").fetchone()[0]
+            high = db.execute("SELECT COUNT(*) FROM segments WHERE kerb_height_m > 0.1"
+                              ).fetchone()[0]
+        self.assertEqual(wrong, 0)
+        self.assertGreater(high, 0)
 
 
 class WithoutMap(unittest.TestCase):

@@ -58,6 +58,7 @@ TEST(SchemaContract, EachSegmentColumnEnumeratorNamesItsColumn) {
       {C::crossing_island, "crossing_island"},
       {C::sidewalk_left, "sidewalk_left"},
       {C::sidewalk_right, "sidewalk_right"},
+      {C::suitable, "suitable"},
   };
   ASSERT_EQ(schema::segment_columns().size(), expected.size());
   ASSERT_EQ(schema::kSegmentColumnCount, expected.size());
@@ -76,6 +77,10 @@ TEST(SchemaContract, SelectionGivesPositionsAndNullsForNewerColumns) {
   EXPECT_EQ(selection.sql("s", 2), "s.score, s.sight_min_m, s.name");
   // The sight columns came with schema version 2: a version 1 map reads NULL in their place.
   EXPECT_EQ(selection.sql("", 1), "score, NULL, name");
+  // The stored verdict came with schema version 4.
+  const schema::SegmentSelection verdict({C::suitable});
+  EXPECT_EQ(verdict.sql("", 3), "NULL");
+  EXPECT_EQ(verdict.sql("", 4), "suitable");
 }
 
 TEST(SchemaContract, ReasonCodesAreUniqueStoredOnesFirst) {

@@ -21,6 +21,7 @@
 #include "roadcross/schema/gpkg_geometry.hpp"
 #include "roadcross/schema/schema.hpp"
 #include "roadcross/schema/sqlite.hpp"
+#include "roadcross/schema/verdict.hpp"
 
 namespace roadcross::preprocess {
 
@@ -89,9 +90,14 @@ class SegmentRows final : public RowSource {
   /// warns about a column added to the schema but not written here).
   static constexpr int kColumns = 2 + static_cast<int>(schema::kSegmentColumnCount);
 
-  /// Rows [first, last) of the graph's segments.
-  SegmentRows(const RoadGraph& graph, std::size_t first, std::size_t last)
-      : graph_(graph), first_(first), count_(last - first), srs_id_(graph.zone.epsg()) {}
+  /// Rows [first, last) of the graph's segments; `rule`: what the stored verdict is judged under.
+  SegmentRows(const RoadGraph& graph, const SuitabilityRule& rule, std::size_t first,
+              std::size_t last)
+      : graph_(graph),
+        rule_(rule),
+        first_(first),
+        count_(last - first),
+        srs_id_(graph.zone.epsg()) {}
   std::size_t row_count() const override { return count_; }
   int column_count() const override { return kColumns; }
 
@@ -201,11 +207,31 @@ class SegmentRows final : public RowSource {
         return optional_flag(out, graph_.pieces[s.piece_index].sidewalks.left);
       case C::sidewalk_right:
         return optional_flag(out, graph_.pieces[s.piece_index].sidewalks.right);
+      case C::suitable:
+        return result(out, suitable_on_centreline(index, s));
     }
     throw std::logic_error("segments writer: no column " + std::to_string(column));
   }
 
  private:
+  /// The runtime's verdict on the segment's centreline under the map's defaults: the one judge
+  /// (schema::judge_segment) and the kerb the map's robot profile cannot climb, as
+  /// Map::assess_segment gives it (on the centreline the robot's side, and so the far-side
+  /// pavement rule, is unknown).
+  bool suitable_on_centreline(std::size_t index, const Segment& s) const {
+    const auto score = s.score();
+    const std::string reasons = s.reasons.joined(',');
+    const schema::Verdict verdict = schema::judge_segment(
+        {score ? std::optional<int>(*score) : std::nullopt,
+         s.context_score ? std::optional<int>(*s.context_score) : std::nullopt, reasons, s.tunnel,
+         s.override_no_crossing, s.override_force_suitable},
+        {rule_.threshold, rule_.limited_visibility_unsuitable});
+    const KerbFacts* kerb = kerb_at(index);
+    const bool kerb_too_high =
+        kerb && kerb->kerb_height_m && *kerb->kerb_height_m > rule_.max_kerb_height_m + 1e-9;
+    return verdict.suitable && !kerb_too_high;
+  }
+
   /// The segment's kerb facts (graph.kerbs holds the few segments that have any), or null.
   const KerbFacts* kerb_at(std::size_t index) const {
     const auto it = graph_.kerbs.find(index);
@@ -213,6 +239,7 @@ class SegmentRows final : public RowSource {
   }
 
   const RoadGraph& graph_;
+  SuitabilityRule rule_;
   std::size_t first_, count_;
   std::int32_t srs_id_;
 };
@@ -231,7 +258,7 @@ std::string segment_column_list() {
 /// optimisation of INSERT INTO t SELECT * FROM t2, cheaper than encoding the rows again).
 /// The rows and their order are the same as one insert of all rows.
 void write_segment_rows(sqlite::Database& db, const std::string& db_path, const RoadGraph& graph,
-                        Progress& progress) {
+                        const SuitabilityRule& rule, Progress& progress) {
   const std::size_t total = graph.segments.size();
   const std::size_t split = total / 2;
   const std::string side_path = db_path + kSideRowsSuffix;
@@ -256,7 +283,7 @@ void write_segment_rows(sqlite::Database& db, const std::string& db_path, const 
     side_db.exec("BEGIN");
     side_db.exec(create_table);
     insert_rows(side_db.handle(), schema::kSegmentsTable, segment_column_list(),
-                SegmentRows(graph, split, total), [&](std::size_t done) {
+                SegmentRows(graph, rule, split, total), [&](std::size_t done) {
                   side_rows_done = done;
                   if (stop_side) sqlite3_interrupt(side_db.handle());
                 });
@@ -264,7 +291,7 @@ void write_segment_rows(sqlite::Database& db, const std::string& db_path, const 
   });
   try {
     insert_rows(db.handle(), schema::kSegmentsTable, segment_column_list(),
-                SegmentRows(graph, 0, split),
+                SegmentRows(graph, rule, 0, split),
                 [&](std::size_t done) { progress.update(done + side_rows_done, total); });
   } catch (...) {
     stop_side = true;
@@ -362,10 +389,11 @@ std::optional<schema::Envelope> write_crossings(sqlite::Database& db,
 SuitabilityRule suitability_rule(const std::vector<std::pair<std::string, std::string>>& metadata) {
   SuitabilityRule rule;
   for (const auto& [key, value] : metadata) {
-    if (key == "param.suitability.threshold") rule.threshold = std::stod(value);
-    if (key == "param.sight.limited_visibility_unsuitable") {
+    if (key == schema::meta::kThresholdParam) rule.threshold = std::stod(value);
+    if (key == schema::meta::kLimitedVisibilityUnsuitableParam) {
       rule.limited_visibility_unsuitable = std::stod(value) != 0.0;
     }
+    if (key == schema::meta::kMaxKerbHeightParam) rule.max_kerb_height_m = std::stod(value);
   }
   return rule;
 }
@@ -465,7 +493,7 @@ void GeoPackageWriter::write_rows_and_metadata(const DatabaseContents& contents,
                                                Progress& progress) {
   const RoadGraph& graph = *contents.graph;
   sqlite::Database& db = *db_;
-  write_segment_rows(db, path_, graph, progress);
+  write_segment_rows(db, path_, graph, suitability_rule(contents.metadata), progress);
   auto update = db.prepare(
       "UPDATE gpkg_contents SET min_x = ?, min_y = ?, max_x = ?, max_y = ? WHERE table_name = "
       "?");
@@ -498,8 +526,7 @@ void GeoPackageWriter::write_rows_and_metadata(const DatabaseContents& contents,
   put(schema::meta::kSegmentCount, std::to_string(graph.segments.size()));
   for (const auto& [key, value] : coverage_metadata(zone_, segment_extent_)) put(key, value);
   for (const auto& [key, value] : contents.metadata) put(key, value);
-  for (const std::string& statement :
-       qgis_style_statements(suitability_rule(contents.metadata), contents.last_change)) {
+  for (const std::string& statement : qgis_style_statements(contents.last_change)) {
     db.exec(statement);
   }
   db.exec("COMMIT");

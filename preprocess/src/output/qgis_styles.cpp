@@ -102,8 +102,9 @@ std::string rule_based_qml(const std::vector<Rule>& rules, bool lines) {
 constexpr const char* kSuitableColor = "26,150,65,255";
 constexpr const char* kUnsuitableColor = "215,25,28,255";
 
-std::string segments_by_suitability(const SuitabilityRule& rule) {
-  return rule_based_qml({{"suitable to cross", suitable_expression(rule), kSuitableColor},
+/// By the stored verdict (the `suitable` column: the runtime's judge under the map's defaults).
+std::string segments_by_suitability() {
+  return rule_based_qml({{"suitable to cross", "\"suitable\"", kSuitableColor},
                          {"not suitable", "ELSE", kUnsuitableColor}},
                         true);
 }
@@ -119,11 +120,11 @@ std::string segments_by_rank() {
 }
 
 std::string crossings_by_kind() {
-  return rule_based_qml({{"traffic signals", "\"signals\"", "43,131,186,255"},
-                         {"designated (zebra, marked)", "\"designated\" AND NOT \"signals\"",
-                          "255,255,255,255"},
-                         {"informal or none", "ELSE", "150,150,150,255"}},
-                        false);
+  return rule_based_qml(
+      {{"traffic signals", "\"signals\"", "43,131,186,255"},
+       {"designated (zebra, marked)", "\"designated\" AND NOT \"signals\"", "255,255,255,255"},
+       {"informal or none", "ELSE", "150,150,150,255"}},
+      false);
 }
 
 /// The terrain as a hillshade (light from the north-west, 45 degrees up): a renderer that needs
@@ -137,23 +138,7 @@ std::string terrain_hillshade() {
 
 }  // namespace
 
-std::string suitable_expression(const SuitabilityRule& rule) {
-  char threshold[32];
-  std::snprintf(threshold, sizeof threshold, "%.17g", rule.threshold);
-  const std::string reasons = "coalesce(\"reasons\", '')";
-  return "NOT (" + reasons +
-         " LIKE '%NOT_CROSSABLE_CLASS%' OR \"tunnel\" OR "
-         "\"override_no_crossing\") AND ((\"score\" IS NOT NULL AND \"score\" + "
-         "coalesce(\"context_score\", 0) >= " +
-         threshold +
-         (rule.limited_visibility_unsuitable
-              ? " AND NOT " + reasons + " LIKE '%LIMITED_VISIBILITY%'"
-              : std::string()) +
-         ") OR \"override_force_suitable\")";
-}
-
-std::vector<std::string> qgis_style_statements(const SuitabilityRule& rule,
-                                               const std::string& last_change) {
+std::vector<std::string> qgis_style_statements(const std::string& last_change) {
   std::vector<std::string> statements = {
       // QGIS's own layout of the table (no AUTOINCREMENT: rows are numbered 1.. either way).
       "CREATE TABLE layer_styles (id INTEGER PRIMARY KEY NOT NULL, f_table_catalog TEXT(256), "
@@ -170,7 +155,7 @@ std::vector<std::string> qgis_style_statements(const SuitabilityRule& rule,
   };
   const std::string geom(schema::kGeometryColumn);
   const std::vector<Style> styles = {
-      {std::string(schema::kSegmentsTable), geom, "suitable", segments_by_suitability(rule),
+      {std::string(schema::kSegmentsTable), geom, "suitable", segments_by_suitability(),
        "green where the runtime judges the place suitable under the map's default thresholds, "
        "red where not",
        true},

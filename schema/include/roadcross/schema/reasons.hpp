@@ -22,7 +22,7 @@ struct ReasonSpec {
 
 /// Every reason code, in the canonical reporting order: the stored codes first (what forbids
 /// crossing, then why the place is poor), then the ones the runtime adds.
-inline constexpr std::array<ReasonSpec, 13> kReasons = {{
+inline constexpr std::array<ReasonSpec, 15> kReasons = {{
     {"NOT_CROSSABLE_CLASS", "a motorway or trunk road: never crossed on foot", true, true},
     {"TUNNEL", "in a tunnel or under a cover", true, true},
     {"OVERRIDE", "an operator override applies", false, true},

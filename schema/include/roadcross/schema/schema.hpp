@@ -18,7 +18,7 @@ namespace roadcross::schema {
 /// no sight column, and a version 1 DB simply never carries LIMITED_VISIBILITY.
 /// 3 (issue 28): kerb, kerb_height_m, crossing_island, sidewalk_left, sidewalk_right. Older DBs
 /// stay readable: the runtime reads NULL (unknown) for them, and unknown never forbids.
-inline constexpr int kSchemaVersion = 3;
+inline constexpr int kSchemaVersion = 4;
 inline constexpr int kOldestReadableVersion = 1;
 
 /// GeoPackage fixes these two SQLite header fields (spec 1.3: 'GPKG' and 10300).
@@ -137,9 +137,10 @@ enum class SegmentColumn : std::uint8_t {
   crossing_island,
   sidewalk_left,
   sidewalk_right,
+  suitable,
 };
 inline constexpr std::size_t kSegmentColumnCount =
-    static_cast<std::size_t>(SegmentColumn::sidewalk_right) + 1;
+    static_cast<std::size_t>(SegmentColumn::suitable) + 1;
 
 /// The attribute columns of `segments` in their table order (after fid and geom); entry i is
 /// the column of enumerator i.
