@@ -46,8 +46,8 @@ int AssessCommand::run() {
     if (!set) return 1;
     const auto result = set->assess(query_.position(), options_);
     if (!result.ok()) return report_error(result.status);
-    return print_assessment(result->answer, set->map(result->map.index).info().zone,
-                            &result->map, std::nullopt, query_.json);
+    return print_assessment(result->answer, set->map(result->map.index).info().zone, &result->map,
+                            std::nullopt, query_.json);
   }
   std::optional<Map> map = open_map_or_report(query_.db_path());
   if (!map) return 1;
@@ -65,12 +65,10 @@ int print_assessment(const Assessment& a, const geo::UtmZone& zone, const MapSou
   if (json) {
     nlohmann::ordered_json out = with_map_source(assessment_json(a, zone), source);
     if (hint) out["hint"] = *hint;
-    std::cout << json_text(out, 2) << "
-";
+    std::cout << json_text(out, 2) << "\n";
     return 0;
   }
-  if (hint) std::fprintf(stderr, "roadcross: note: %s
-", hint->c_str());
+  if (hint) std::fprintf(stderr, "roadcross: note: %s\n", hint->c_str());
   if (source) print_map_source(*source);
   const std::string name = a.road.name.empty() ? "(unnamed)" : a.road.name;
   std::printf("%s\n", a.suitable ? "SUITABLE place to cross"

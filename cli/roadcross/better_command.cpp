@@ -31,8 +31,7 @@ namespace {
 int print_better_places(const BetterPlaces& places, const geo::UtmZone& zone,
                         const MapSource* source, bool json) {
   if (json) {
-    std::cout << json_text(with_map_source(better_places_json(places, zone), source), 2) << "
-";
+    std::cout << json_text(with_map_source(better_places_json(places, zone), source), 2) << "\n";
     return 0;
   }
   if (source) print_map_source(*source);

@@ -21,8 +21,7 @@ namespace {
 int print_heading(const RoadHeading& heading, const geo::UtmZone& zone, const MapSource* source,
                   bool json) {
   if (json) {
-    std::cout << json_text(with_map_source(heading_json(heading, zone), source), 2) << "
-";
+    std::cout << json_text(with_map_source(heading_json(heading, zone), source), 2) << "\n";
     return 0;
   }
   if (source) print_map_source(*source);

@@ -114,6 +114,10 @@ expect_failure "5 MB note" "$WORK/note.geojson" "feature 0" "note is 5000000 byt
 feature '{"no_crossing": true}' '{"type": "Polygon", "coordinates": [[[100, 10], [100.1, 10], [100.1, 10.1], [100, 10]]]}' >"$WORK/far.geojson"
 expect_failure "polygon outside the UTM zone" "$WORK/far.geojson" "feature 0" "outside the map's UTM zone" -- \
   "$ROADCROSS_BUILD" -q --osm "$SMALL" -o "$out" --overrides "$WORK/far.geojson"
+# A number beyond a double (found by the overrides fuzz target): an error, not an abort.
+feature '{"osm_way_id": 999E99999}' >"$WORK/overflow.geojson"
+expect_failure "number overflow" "$WORK/overflow.geojson" "not valid JSON" "number overflow" -- \
+  "$ROADCROSS_BUILD" -q --osm "$SMALL" -o "$out" --overrides "$WORK/overflow.geojson"
 # 1 100 features of +1000 on way 1: the context score would be ~1.1e6 above its base; it is
 # clamped at 1 000 000 (an int stays far from overflow wherever score + context is summed).
 python3 - "$WORK/many.geojson" <<'PY'

@@ -100,7 +100,9 @@ TEST_F(MapSetTest, EachPositionIsAnsweredByTheMapThatCoversIt) {
   ASSERT_TRUE(west.ok()) << west.status.message;
   EXPECT_EQ(west->map.index, 0u);
   EXPECT_EQ(west->map.path, path("maps/west.gpkg"));
-  EXPECT_EQ(west->map.map_id, "");  // these maps carry no id
+  // The id the map carries (roadcross-build writes one), as MapInfo reads it.
+  EXPECT_EQ(west->map.map_id, set.map(0).info().map_id);
+  EXPECT_EQ(west->map.map_id.size(), 64u);
   EXPECT_EQ(west->answer.osm_way_id, 100);
   EXPECT_NEAR(west->answer.distance_m, 11.1121, kToleranceM);
   // Answered in the map's own grid: zone 33's easting of P1.

@@ -101,8 +101,8 @@ void insert_segment(sqlite3* db, const SegmentRow& row) {
 
 /// Writes the test map to `path`: main road segments 1..20 west to east along northing 0
 /// (relative to the origin), fid 1..20; the side road (fid 21, 22) north from the main road's
-/// middle node. Segments 6..8 are suitable (rank 0, score 15 >= threshold 13), the others have
-/// rank 5 (score 10: LOW_SCORE at the default threshold).
+/// middle node. Segments 6..8 are suitable (rank 0, score 15 >= the map's threshold 13), the
+/// others have rank 5 (score 10 < 13: LOW_SCORE).
 void write_test_map(const std::string& path) {
   std::filesystem::remove(path);
   sqlite3* db = nullptr;
@@ -151,6 +151,7 @@ void write_test_map(const std::string& path) {
       {roadcross::schema::meta::kUtmNorthern, "1"},
       {roadcross::schema::meta::kEpsg, std::to_string(kSrsId)},
       {roadcross::schema::meta::kSegmentCount, std::to_string(kMainSegments + 2)},
+      {roadcross::schema::meta::kThresholdParam, "13"},
   };
   for (const auto& [key, value] : metadata) {
     exec(db, "INSERT INTO roadcross_metadata (key, value) VALUES ('" + std::string(key) + "', '" +

@@ -240,7 +240,9 @@ std::vector<Override> parse_overrides(const std::string& text, const std::string
   json document;
   try {
     document = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {
+    // parse_error, and out_of_range for a number beyond a double (999E99999): found by the
+    // overrides fuzz target (tests/fuzz/regressions/overrides/).
     throw InputError(name, std::string("not valid JSON: ") + e.what());
   }
   if (!document.is_object() || document.value("type", json()) != "FeatureCollection" ||
