@@ -33,6 +33,12 @@ struct SegmentLayer {
   std::int64_t fid = 0;
   std::vector<schema::PlanePoint> line;  ///< UTM metres
   Assessment assessment;                 ///< Map::assess_segment: on the centreline
+  /// The road graph's nodes at the segment's two ends (segments sharing one are connected).
+  std::int64_t from_node_id = 0, to_node_id = 0;
+  /// Why it is not suitable, one code of schema::kReasons (empty when suitable): the first of
+  /// schema::judge_segment's forbidding codes, else the robot's rule that forbids it
+  /// (KERB_TOO_HIGH). What `render --color-by reason` and the page colour by.
+  std::string deciding_reason;
 };
 
 struct CrossingLayer {
