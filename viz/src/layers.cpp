@@ -51,6 +51,15 @@ bool meets(const UtmBox& box, const schema::Envelope& e) {
          e.min_y <= box.max_n_m;
 }
 
+std::vector<std::string> split_codes(const std::string& codes) {
+  std::vector<std::string> out;
+  std::stringstream in(codes);
+  for (std::string code; std::getline(in, code, ',');) {
+    if (!code.empty()) out.push_back(code);
+  }
+  return out;
+}
+
 // The map's LIMITED_VISIBILITY rule (param.sight.limited_visibility_unsuitable, default on).
 bool limited_visibility_forbids(const MapInfo& info) {
   for (const auto& [key, value] : info.metadata) {
@@ -95,13 +104,15 @@ std::vector<SegmentLayer> read_segments(sqlite::Database& db, Map& map, const Ut
     s.assessment = std::move(*a);
     s.from_node_id = rows.column_int64(kColumns[C::from_node_id]);
     s.to_node_id = rows.column_int64(kColumns[C::to_node_id]);
-    const schema::Verdict verdict = schema::judge_segment(
-        {s.assessment.score, s.assessment.context_score, rows.column_text(kColumns[C::reasons]),
-         rows.column_int64(kColumns[C::tunnel]) != 0,
-         rows.column_int64(kColumns[C::override_no_crossing]) != 0,
-         rows.column_int64(kColumns[C::override_force_suitable]) != 0},
-        {s.assessment.threshold, limited_visibility_unsuitable});
-    s.deciding_reason = deciding_reason_of(verdict, s.assessment);
+    const std::string reasons = rows.column_text(kColumns[C::reasons]);
+    s.verdict =
+        schema::judge_segment({s.assessment.score, s.assessment.context_score, reasons,
+                               rows.column_int64(kColumns[C::tunnel]) != 0,
+                               rows.column_int64(kColumns[C::override_no_crossing]) != 0,
+                               rows.column_int64(kColumns[C::override_force_suitable]) != 0},
+                              {s.assessment.threshold, limited_visibility_unsuitable});
+    s.deciding_reason = deciding_reason_of(s.verdict, s.assessment);
+    s.stored_reasons = split_codes(reasons);
     out.push_back(std::move(s));
   }
   return out;

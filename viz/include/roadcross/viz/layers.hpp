@@ -10,6 +10,7 @@
 
 #include "roadcross/runtime.hpp"
 #include "roadcross/schema/gpkg_geometry.hpp"
+#include "roadcross/schema/verdict.hpp"
 
 namespace roadcross::viz {
 
@@ -39,6 +40,10 @@ struct SegmentLayer {
   /// schema::judge_segment's forbidding codes, else the robot's rule that forbids it
   /// (KERB_TOO_HIGH). What `render --color-by reason` and the page colour by.
   std::string deciding_reason;
+  /// schema::judge_segment's verdict on the row (without the robot's rules).
+  schema::Verdict verdict;
+  /// The codes the build stored (the `reasons` column), in its order.
+  std::vector<std::string> stored_reasons;
 };
 
 struct CrossingLayer {
