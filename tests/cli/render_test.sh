@@ -123,7 +123,7 @@ part=$(json_field "$WORK/part.json" segments)
 ((part > 10 && part < all / 2)) && pass "bbox: $part of $all segments" || fail "bbox: $part of $all segments"
 
 # Bad input: clear errors, non-zero exit, no output left behind.
-expect_failure "unknown --color-by" "unknown --color-by 'speed'" "suitable, rank, landform or context" -- \
+expect_failure "unknown --color-by" "unknown --color-by 'speed'" "suitable, rank, landform, context or reason" -- \
   "$ROADCROSS" render --db "$WORK/prague.gpkg" -o "$WORK/x.png" --color-by speed
 expect_failure "bbox outside the map" "lies outside the map" -- \
   "$ROADCROSS" render --db "$WORK/prague.gpkg" -o "$WORK/x.png" --bbox 16.0,49.0,16.1,49.1
