@@ -644,7 +644,9 @@
         .bindTooltip('better place ' + (k + 1) + ': ' + c.walking_distance_m.toFixed(0) + ' m of walking').addTo(answerLayer);
       arrow(c.point_utm_m[0], c.point_utm_m[1], c.crossing_heading_rad, 10, '#0072b2');
     });
-    map.setView([lat, lon], Math.max(map.getZoom(), 18));
+    // The place and its better places in view, as close as street level.
+    const shown = [[lat, lon]].concat(better.candidates.map((c) => utm.inverse(c.point_utm_m[0], c.point_utm_m[1])));
+    map.fitBounds(L.latLngBounds(shown).pad(0.15), { maxZoom: 18 });
   }
 
   document.getElementById('search').addEventListener('submit', (event) => {
