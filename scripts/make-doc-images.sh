@@ -15,6 +15,7 @@ mkdir -p "$out"
   -o "$tmp/monaco.gpkg" -q
 "$bin/roadcross" render --db "$tmp/prague.gpkg" -o "$out/prague-suitable.png" --width 1000
 "$bin/roadcross" render --db "$tmp/prague.gpkg" -o "$out/prague-rank.png" --width 1000 --color-by rank
+"$bin/roadcross" render --db "$tmp/prague.gpkg" -o "$out/prague-reason.png" --width 1000 --color-by reason
 "$bin/roadcross" render --db "$tmp/monaco.gpkg" -o "$out/monaco-suitable.png" --width 1000
 "$bin/roadcross" render --db "$tmp/monaco.gpkg" -o "$out/monaco-landform.png" --width 1000 \
   --color-by landform
@@ -22,5 +23,5 @@ mkdir -p "$out"
 chromium --headless --no-sandbox --disable-gpu --hide-scrollbars --window-size=1200,800 \
   --user-data-dir="$tmp/chromium-profile" \
   --virtual-time-budget=5000 --screenshot="$out/prague-view.png" \
-  "file://$tmp/prague-view/index.html#50.0757,14.4160" 2>/dev/null
+  "file://$tmp/prague-view/index.html#50.0757,14.4160,300" 2>/dev/null
 rm -f "$out"/*.pgw  # the world files georeference the PNGs; the guide does not need them

@@ -41,8 +41,10 @@ RenderCommand::RenderCommand(CLI::App& parent) {
   app_->add_option("--bbox", bbox_, kBboxHelp);
   app_->add_option("--width", options_.width_px, "picture width in pixels (200..10000)")
       ->capture_default_str();
-  app_->add_option("--color-by", color_by_, "suitable, rank, landform or context")
+  app_->add_option("--color-by", color_by_, "suitable, rank, landform, context or reason")
       ->capture_default_str();
+  app_->add_flag("--no-street-names", no_street_names_,
+                 "draw no street names (by default they go along the roads where they fit)");
   app_->add_flag("--json", json_, "print a JSON summary (size, extent, metres per pixel)");
   app_->footer(
       "Example:\n  roadcross render --db prague.gpkg -o prague.png --width 1600 --color-by rank");
@@ -53,10 +55,11 @@ int RenderCommand::run() {
     const std::optional<viz::ColorBy> by = viz::parse_color_by(color_by_);
     if (!by) {
       throw std::invalid_argument("unknown --color-by '" + color_by_ +
-                                  "' (expected suitable, rank, landform or context)");
+                                  "' (expected suitable, rank, landform, context or reason)");
     }
     options_.color_by = *by;
     options_.bbox = bbox_or_none(bbox_);
+    options_.street_names = !no_street_names_;
     const viz::RenderSummary s = viz::render_png(options_);
     if (json_) {
       nlohmann::ordered_json out;
@@ -70,6 +73,7 @@ int RenderCommand::run() {
       out["segments"] = s.segments;
       out["designated_crossings"] = s.crossings;
       out["hillshade"] = s.hillshade;
+      out["street_names"] = s.street_names;
       std::cout << json_text(out, 2) << "\n";
     } else {
       std::printf("wrote %s (%d x %d px, %.2f m/px, %zu segments, %zu crossings%s)\n",

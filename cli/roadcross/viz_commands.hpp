@@ -24,6 +24,7 @@ class RenderCommand : public Command {
   viz::RenderOptions options_;
   std::string bbox_, color_by_ = "suitable";
   bool json_ = false;
+  bool no_street_names_ = false;
 };
 
 /// roadcross export: a feature table as GeoJSON in WGS84, every term a property.

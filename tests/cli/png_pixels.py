@@ -4,6 +4,7 @@
   png_pixels.py size FILE                 -> "WIDTH HEIGHT"
   png_pixels.py count FILE HEX...         -> one count per colour: pixels exactly that colour
   png_pixels.py grey FILE                 -> pixels with r == g == b, neither black nor white
+  png_pixels.py dark FILE                 -> pixels with every channel below 90 (text, black lines)
 """
 import struct
 import sys
@@ -76,6 +77,8 @@ def main():
         print(' '.join(str(counts[w]) for w in wanted))
     elif command == 'grey':
         print(sum(1 for r, g, b in pixels(rows, bpp) if r == g == b and 0 < r < 255))
+    elif command == 'dark':
+        print(sum(1 for r, g, b in pixels(rows, bpp) if max(r, g, b) < 90))
     else:
         raise SystemExit('unknown command ' + command)
 

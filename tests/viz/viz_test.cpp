@@ -8,7 +8,7 @@
 
 namespace rv = roadcross::viz;
 
-TEST(Colors, ParseColorByKnowsFourTerms) {
+TEST(Colors, ParseColorByKnowsTheTerms) {
   EXPECT_EQ(rv::parse_color_by("suitable"), rv::ColorBy::suitable);
   EXPECT_EQ(rv::parse_color_by("rank"), rv::ColorBy::rank);
   EXPECT_EQ(rv::parse_color_by("landform"), rv::ColorBy::landform);
@@ -55,6 +55,23 @@ TEST(Colors, ContextSpreadsOverTheMapsRangeAndLandformListsOnlyPresentClasses) {
   EXPECT_EQ(legend[0].label, "plains");
   EXPECT_EQ(legend[1].label, "tunnel");
   EXPECT_EQ(landform.legend({}).front().label, "no elevation data");
+}
+
+TEST(Colors, ReasonColoursTheDecidingCodeAndListsOnlyPresentOnesInTheContractsOrder) {
+  EXPECT_EQ(rv::parse_color_by("reason"), rv::ColorBy::reason);
+  EXPECT_STREQ(rv::to_string(rv::ColorBy::reason), "reason");
+  roadcross::Assessment a;
+  const rv::ColorScale reason(rv::ColorBy::reason, 20.0, 0, 1);
+  EXPECT_EQ(reason.color_of(a, "").hex(), "#0072b2");  // suitable: the verdict's blue
+  EXPECT_EQ(reason.color_of(a, "LIMITED_VISIBILITY").hex(), "#d55e00");
+  EXPECT_EQ(reason.color_of(a, "NOT_CROSSABLE_CLASS").hex(), "#000000");
+  EXPECT_EQ(reason.color_of(a, "NEAR_JUNCTION").hex(), rv::kMissingColor.hex());  // never decides
+  // Given out of order, listed as schema::kReasons orders them, after "suitable".
+  const auto legend = reason.legend({"LOW_SCORE", "", "TUNNEL"});
+  ASSERT_EQ(legend.size(), 3u);
+  EXPECT_EQ(legend[0].label, "suitable");
+  EXPECT_EQ(legend[1].label, "TUNNEL");
+  EXPECT_EQ(legend[2].label, "LOW_SCORE");
 }
 
 TEST(Bbox, ParsesFourNumbersAndRejectsTheRest) {

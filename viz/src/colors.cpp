@@ -7,6 +7,8 @@
 #include <cstdlib>
 #include <utility>
 
+#include "roadcross/schema/reasons.hpp"
+
 namespace roadcross::viz {
 
 namespace {
@@ -33,6 +35,26 @@ const std::array<std::pair<const char*, const char*>, 12> kLandforms = {{
     {"tunnel", "#444444"},
 }};
 
+// The deciding reasons a map shows (those that make a place unsuitable), Okabe & Ito's palette
+// without the suitable blue; visibility, the commonest, keeps the vermillion of "not suitable".
+constexpr std::array<std::pair<std::string_view, const char*>, 7> kReasonColors = {{
+    {"NOT_CROSSABLE_CLASS", "#000000"},
+    {"TUNNEL", "#777777"},
+    {"OVERRIDE", "#cc79a7"},
+    {"LIMITED_VISIBILITY", "#d55e00"},
+    {"LOW_SCORE", "#e69f00"},
+    {"KERB_TOO_HIGH", "#009e73"},
+    {"NO_PAVEMENT_FAR_SIDE", "#56b4e9"},
+}};
+static_assert(
+    [] {
+      for (const auto& [code, hex] : kReasonColors) {
+        if (!schema::find_reason(code)) return false;
+      }
+      return true;
+    }(),
+    "every coloured code is a reason code of the DB contract");
+
 constexpr int kRankMax = 14;
 
 // Lower rank is better: show good places yellow, as with context (higher is better).
@@ -43,7 +65,8 @@ double rank_t(int rank) {
 }  // namespace
 
 std::optional<ColorBy> parse_color_by(std::string_view name) {
-  for (ColorBy by : {ColorBy::suitable, ColorBy::rank, ColorBy::landform, ColorBy::context}) {
+  for (ColorBy by :
+       {ColorBy::suitable, ColorBy::rank, ColorBy::landform, ColorBy::context, ColorBy::reason}) {
     if (name == to_string(by)) return by;
   }
   return std::nullopt;
@@ -59,6 +82,8 @@ const char* to_string(ColorBy by) noexcept {
       return "landform";
     case ColorBy::context:
       return "context";
+    case ColorBy::reason:
+      return "reason";
   }
   return "?";
 }
@@ -87,6 +112,24 @@ Rgb viridis(double t) {
   return {a.r + (b.r - a.r) * f, a.g + (b.g - a.g) * f, a.b + (b.b - a.b) * f};
 }
 
+Rgb reason_color(std::string_view code) {
+  if (code.empty()) return kSuitableColor;
+  for (const auto& [known, hex] : kReasonColors) {
+    if (code == known) return rgb_from_hex(hex);
+  }
+  return kMissingColor;
+}
+
+std::vector<std::string_view> reason_color_codes() {
+  std::vector<std::string_view> out;
+  for (const schema::ReasonSpec& spec : schema::kReasons) {
+    for (const auto& [known, hex] : kReasonColors) {
+      if (spec.code == known) out.push_back(known);
+    }
+  }
+  return out;
+}
+
 Rgb landform_color(const std::string& landform) {
   for (const auto& [name, hex] : kLandforms) {
     if (landform == name) return rgb_from_hex(hex);
@@ -97,7 +140,7 @@ Rgb landform_color(const std::string& landform) {
 ColorScale::ColorScale(ColorBy by, double threshold, int context_min, int context_max)
     : by_(by), threshold_(threshold), context_min_(context_min), context_max_(context_max) {}
 
-Rgb ColorScale::color_of(const Assessment& a) const {
+Rgb ColorScale::color_of(const Assessment& a, std::string_view deciding_reason) const {
   switch (by_) {
     case ColorBy::suitable:
       return a.suitable ? kSuitableColor : kUnsuitableColor;
@@ -110,6 +153,8 @@ Rgb ColorScale::color_of(const Assessment& a) const {
       const int span = std::max(1, context_max_ - context_min_);
       return viridis(static_cast<double>(*a.context_score - context_min_) / span);
     }
+    case ColorBy::reason:
+      return reason_color(deciding_reason);
   }
   return kMissingColor;
 }
@@ -126,11 +171,16 @@ std::string ColorScale::title() const {
       return "Landform (Weiss 2001)";
     case ColorBy::context:
       return "Context score (higher is better)";
+    case ColorBy::reason:
+      return "Why not suitable (the deciding reason)";
   }
   return "";
 }
 
-std::vector<LegendEntry> ColorScale::legend(const std::vector<std::string>& landforms) const {
+std::vector<LegendEntry> ColorScale::legend(const std::vector<std::string>& present) const {
+  const auto is_present = [&](std::string_view value) {
+    return std::find(present.begin(), present.end(), value) != present.end();
+  };
   std::vector<LegendEntry> out;
   switch (by_) {
     case ColorBy::suitable:
@@ -142,8 +192,7 @@ std::vector<LegendEntry> ColorScale::legend(const std::vector<std::string>& land
       break;
     case ColorBy::landform:
       for (const auto& [name, hex] : kLandforms) {
-        if (std::find(landforms.begin(), landforms.end(), name) != landforms.end())
-          out.push_back({name, rgb_from_hex(hex)});
+        if (is_present(name)) out.push_back({name, rgb_from_hex(hex)});
       }
       if (out.empty()) out.push_back({"no elevation data", kMissingColor});
       break;
@@ -156,6 +205,12 @@ std::vector<LegendEntry> ColorScale::legend(const std::vector<std::string>& land
       }
       break;
     }
+    case ColorBy::reason:
+      out.push_back({"suitable", kSuitableColor});
+      for (std::string_view code : reason_color_codes()) {
+        if (is_present(code)) out.push_back({std::string(code), reason_color(code)});
+      }
+      break;
   }
   return out;
 }

@@ -10,8 +10,10 @@
 #include <stdexcept>
 
 #include "roadcross/geo.hpp"
+#include "roadcross/schema/reasons.hpp"
 #include "roadcross/schema/schema.hpp"
 #include "roadcross/schema/sqlite.hpp"
+#include "roadcross/schema/verdict.hpp"
 
 namespace roadcross::viz {
 
@@ -49,10 +51,47 @@ bool meets(const UtmBox& box, const schema::Envelope& e) {
          e.min_y <= box.max_n_m;
 }
 
+std::vector<std::string> split_codes(const std::string& codes) {
+  std::vector<std::string> out;
+  std::stringstream in(codes);
+  for (std::string code; std::getline(in, code, ',');) {
+    if (!code.empty()) out.push_back(code);
+  }
+  return out;
+}
+
+// The map's LIMITED_VISIBILITY rule (param.sight.limited_visibility_unsuitable, default on).
+bool limited_visibility_forbids(const MapInfo& info) {
+  for (const auto& [key, value] : info.metadata) {
+    if (key == schema::meta::kLimitedVisibilityUnsuitableParam) return value != "0";
+  }
+  return true;
+}
+
+std::string deciding_reason_of(const schema::Verdict& verdict, const Assessment& a) {
+  if (a.suitable) return "";
+  const std::vector<std::string_view> codes = schema::forbidding_codes(verdict);
+  if (!codes.empty()) return std::string(codes.front());
+  // The segment passes the judge: a robot rule forbids it (assess_segment knows no side, so
+  // only the kerb can).
+  for (const std::string& code : a.reasons) {
+    const schema::ReasonSpec* spec = schema::find_reason(code);
+    if (spec && spec->makes_unsuitable && !spec->stored_by_build) return code;
+  }
+  return "LOW_SCORE";  // unreachable while assess_segment and the judge agree
+}
+
 std::vector<SegmentLayer> read_segments(sqlite::Database& db, Map& map, const UtmBox& area) {
+  using C = schema::SegmentColumn;
+  static const schema::SegmentSelection kColumns(
+      {C::from_node_id, C::to_node_id, C::score, C::context_score, C::reasons, C::tunnel,
+       C::override_no_crossing, C::override_force_suitable},
+      2);
+  const MapInfo& info = map.info();
+  const bool limited_visibility_unsuitable = limited_visibility_forbids(info);
   std::vector<SegmentLayer> out;
-  auto rows =
-      db.prepare("SELECT fid, geom FROM " + std::string(schema::kSegmentsTable) + " ORDER BY fid");
+  auto rows = db.prepare("SELECT fid, geom, " + kColumns.sql("", info.schema_version) + " FROM " +
+                         std::string(schema::kSegmentsTable) + " ORDER BY fid");
   while (rows.step()) {
     SegmentLayer s;
     s.fid = rows.column_int64(0);
@@ -63,6 +102,17 @@ std::vector<SegmentLayer> read_segments(sqlite::Database& db, Map& map, const Ut
     Result<Assessment> a = map.assess_segment(s.fid);
     if (!a.ok()) throw std::runtime_error(a.status.message);
     s.assessment = std::move(*a);
+    s.from_node_id = rows.column_int64(kColumns[C::from_node_id]);
+    s.to_node_id = rows.column_int64(kColumns[C::to_node_id]);
+    const std::string reasons = rows.column_text(kColumns[C::reasons]);
+    s.verdict =
+        schema::judge_segment({s.assessment.score, s.assessment.context_score, reasons,
+                               rows.column_int64(kColumns[C::tunnel]) != 0,
+                               rows.column_int64(kColumns[C::override_no_crossing]) != 0,
+                               rows.column_int64(kColumns[C::override_force_suitable]) != 0},
+                              {s.assessment.threshold, limited_visibility_unsuitable});
+    s.deciding_reason = deciding_reason_of(s.verdict, s.assessment);
+    s.stored_reasons = split_codes(reasons);
     out.push_back(std::move(s));
   }
   return out;

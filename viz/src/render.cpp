@@ -13,6 +13,7 @@
 #include "hillshade.hpp"
 #include "roadcross/files/atomic_file.hpp"
 #include "roadcross/geo.hpp"
+#include "street_names.hpp"
 
 namespace roadcross::viz {
 
@@ -102,7 +103,7 @@ void draw_segments(cairo_t* cr, const Frame& f, const std::vector<SegmentLayer>&
   }
   cairo_set_line_width(cr, width);
   for (const SegmentLayer& s : segments) {
-    set_color(cr, scale.color_of(s.assessment));
+    set_color(cr, scale.color_of(s.assessment, s.deciding_reason));
     trace(cr, f, s);
     cairo_stroke(cr);
   }
@@ -278,13 +279,18 @@ void draw_attribution(cairo_t* cr, const Frame& f, const Strip& st, const MapInf
   cairo_show_text(cr, text.c_str());
 }
 
-ColorScale scale_for(const MapLayers& layers, ColorBy by, std::vector<std::string>& landforms) {
+// The scale, and the values present in the map that its legend lists: the landform classes
+// for landform, the deciding reasons for reason.
+ColorScale scale_for(const MapLayers& layers, ColorBy by, std::vector<std::string>& present) {
   int context_min = 0, context_max = 1;
   bool first = true;
+  const auto note = [&](const std::string& value) {
+    if (std::find(present.begin(), present.end(), value) == present.end()) present.push_back(value);
+  };
   for (const SegmentLayer& s : layers.segments) {
     const Assessment& a = s.assessment;
-    if (a.landform && std::find(landforms.begin(), landforms.end(), *a.landform) == landforms.end())
-      landforms.push_back(*a.landform);
+    if (by == ColorBy::landform && a.landform) note(*a.landform);
+    if (by == ColorBy::reason) note(s.deciding_reason);
     if (!a.context_score) continue;
     context_min = first ? *a.context_score : std::min(context_min, *a.context_score);
     context_max = first ? *a.context_score : std::max(context_max, *a.context_score);
@@ -324,10 +330,20 @@ RenderSummary render_png(const RenderOptions& options) {
   cairo_paint(cr.get());
   RenderSummary summary;
   summary.hillshade = layers.has_terrain && draw_hillshade(cr.get(), f, options.db_path);
-  std::vector<std::string> landforms;
-  const ColorScale scale = scale_for(layers, options.color_by, landforms);
+  std::vector<std::string> present;
+  const ColorScale scale = scale_for(layers, options.color_by, present);
   draw_segments(cr.get(), f, layers.segments, scale);
   draw_crossings(cr.get(), f, layers.crossings);
+  if (options.street_names) {
+    const NameLayout names{std::max(9.0, 11.0 * f.ui), static_cast<double>(f.width_px),
+                           static_cast<double>(f.height_px)};
+    summary.street_names = draw_street_names(
+        cr.get(), layers.segments,
+        [&](const schema::PlanePoint& p) {
+          return PixelPoint{f.x(p.x), f.y(p.y)};
+        },
+        names);
+  }
   cairo_rectangle(cr.get(), 0, strip.top, f.width_px, strip.height() + 1);
   cairo_set_source_rgb(cr.get(), 1, 1, 1);  // the strip covers what lies beyond the map
   cairo_fill(cr.get());
@@ -336,7 +352,7 @@ RenderSummary render_png(const RenderOptions& options) {
   cairo_set_source_rgb(cr.get(), 0.4, 0.4, 0.4);
   cairo_set_line_width(cr.get(), 1.0);
   cairo_stroke(cr.get());
-  draw_legend(cr.get(), f, strip, scale, scale.legend(landforms), summary.hillshade);
+  draw_legend(cr.get(), f, strip, scale, scale.legend(present), summary.hillshade);
   draw_scale_bar(cr.get(), f, strip);
   draw_north_arrow(cr.get(), f, layers.info);
   draw_attribution(cr.get(), f, strip, layers.info);

@@ -10,6 +10,7 @@
 
 #include "roadcross/runtime.hpp"
 #include "roadcross/schema/gpkg_geometry.hpp"
+#include "roadcross/schema/verdict.hpp"
 
 namespace roadcross::viz {
 
@@ -33,6 +34,16 @@ struct SegmentLayer {
   std::int64_t fid = 0;
   std::vector<schema::PlanePoint> line;  ///< UTM metres
   Assessment assessment;                 ///< Map::assess_segment: on the centreline
+  /// The road graph's nodes at the segment's two ends (segments sharing one are connected).
+  std::int64_t from_node_id = 0, to_node_id = 0;
+  /// Why it is not suitable, one code of schema::kReasons (empty when suitable): the first of
+  /// schema::judge_segment's forbidding codes, else the robot's rule that forbids it
+  /// (KERB_TOO_HIGH). What `render --color-by reason` and the page colour by.
+  std::string deciding_reason;
+  /// schema::judge_segment's verdict on the row (without the robot's rules).
+  schema::Verdict verdict;
+  /// The codes the build stored (the `reasons` column), in its order.
+  std::vector<std::string> stored_reasons;
 };
 
 struct CrossingLayer {

@@ -17,6 +17,8 @@ struct RenderOptions {
   std::optional<LonLatBox> bbox;
   int width_px = 1200;
   ColorBy color_by = ColorBy::suitable;
+  /// Street names along the roads where they fit (never over another name).
+  bool street_names = true;
 };
 
 struct RenderSummary {
@@ -26,6 +28,7 @@ struct RenderSummary {
   UtmBox area;  ///< the picture's extent in the map's UTM zone
   std::size_t segments = 0, crossings = 0;
   bool hillshade = false;
+  std::size_t street_names = 0;  ///< names drawn (a long road may carry its name twice)
   std::string world_file;
 };
 
