@@ -204,8 +204,7 @@ Status Map::Impl::judge_region(const PositionUncertainty& uncertainty, Assessmen
     out.road.distance_m = 0.0;
     out.valid_distance_m = a.valid_distance_m;
     out.threshold = a.threshold;
-    Status judged =
-        judge(impl.queries.assessment, out, impl.thresholds.limited_visibility_unsuitable);
+    Status judged = judge(impl.region_verdict, out, impl.thresholds.limited_visibility_unsuitable);
     if (judged.code == StatusCode::not_found) {
       throw std::runtime_error("segment " + std::to_string(segment_id) + " has no row");
     }
@@ -256,7 +255,9 @@ Result<Assessment> Map::assess(const Position& position, const AssessOptions& op
   try {
     Result<Assessment> result{Status{}, std::optional<Assessment>(std::in_place)};
     Assessment& a = *result.value;
-    Status status = impl.locate(position, options.max_distance_m, a.road);
+    const double reach_m =
+        position.uncertainty ? detail::region_reach_m(*position.uncertainty) : 0.0;
+    Status status = impl.locate(position, options.max_distance_m, a.road, reach_m);
     if (!status.ok()) return Result<Assessment>{std::move(status), std::nullopt};
     a.valid_distance_m = options.valid_distance_m.value_or(impl.thresholds.valid_distance_m);
     a.threshold = options.threshold.value_or(impl.thresholds.threshold);
@@ -270,6 +271,7 @@ Result<Assessment> Map::assess(const Position& position, const AssessOptions& op
   } catch (const std::exception& e) {
     impl.queries.candidates.reset();
     impl.queries.assessment.reset();
+    impl.region_verdict.reset();
     return Result<Assessment>{
         Status{StatusCode::corrupt_database, impl.info.path + ": " + e.what()}, std::nullopt};
   }
