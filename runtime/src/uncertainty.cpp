@@ -344,6 +344,9 @@ Status Map::Impl::region_geometry(const PositionUncertainty& uncertainty, const 
   for (int ring = 0; ring < kRings; ++ring) {
     // The ring's middle in probability: P(r <= radius) = p (ring + 1/2) / kRings.
     const double radius = std::sqrt(-2.0 * std::log1p(-p * (ring + 0.5) / kRings));
+    // No sample of the ring is farther from the fix than this (the ellipse's semi-major axis
+    // scaled to the ring, with a margin for rounding): the stopping bound, one root per ring.
+    const double ring_reach_m = out.semi_major_m * radius / k * (1.0 + 1e-9);
     for (int step = 0; step < kAngles; ++step) {
       const int half_steps = 2 * step + (ring % 2);
       const double z1 = radius * unit.cos_values[half_steps];
@@ -351,14 +354,12 @@ Status Map::Impl::region_geometry(const PositionUncertainty& uncertainty, const 
       const schema::PlanePoint place{fix.x + cov.l11 * z1, fix.y + cov.l21 * z1 + cov.l22 * z2};
       // Nearest segment: start from the previous sample's (neighbours usually share it), go
       // through the others by their boxes' distance from the fix, and stop where even that
-      // less the sample's distance from the fix is farther than the best so far.
-      const double from_fix_m =
-          std::sqrt((place.x - fix.x) * (place.x - fix.x) + (place.y - fix.y) * (place.y - fix.y));
+      // less the ring's reach is farther than the best so far.
       std::size_t best = previous;
       std::size_t best_edge = 0;
       double best_sq = polyline_distance_sq_m2(region_segments[best].edges, place, best_edge);
       for (const detail::BoxCandidate& box : by_box_distance) {
-        const double bound_m = box.from_fix_m - from_fix_m;
+        const double bound_m = box.from_fix_m - ring_reach_m;
         if (bound_m > 0.0 && bound_m * bound_m >= best_sq) break;
         const std::size_t i = box.index;
         if (i == previous || box_distance_sq_m2(box, place) >= best_sq) continue;
