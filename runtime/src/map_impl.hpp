@@ -40,8 +40,7 @@ extern const schema::SegmentSelection kIdentityColumns;
 /// The end nodes read after fid and geom (the `segments_at` statement).
 extern const schema::SegmentSelection kEndNodeColumns;
 
-/// Suitability thresholds as recorded by the build (param.suitability.*), else the thesis'
-/// defaults.
+/// Suitability thresholds as recorded by the build (param.suitability.*), else the thesis' defaults.
 struct Thresholds {
   double valid_distance_m = 10.0;
   double threshold = 20.0;
