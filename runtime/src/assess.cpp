@@ -77,10 +77,10 @@ Queries::Queries(sqlite::Database& db, int schema_version)
 Status thresholds_from(const MapInfo& info, Thresholds& out) {
   Thresholds t;
   for (const auto& [key, value] : info.metadata) {
-    double* target = key == schema::meta::kValidDistanceParam    ? &t.valid_distance_m
-                     : key == schema::meta::kThresholdParam      ? &t.threshold
+    double* target = key == schema::meta::kValidDistanceParam   ? &t.valid_distance_m
+                     : key == schema::meta::kThresholdParam     ? &t.threshold
                      : key == schema::meta::kMaxKerbHeightParam ? &t.max_kerb_height_m
-                                                                 : nullptr;
+                                                                : nullptr;
     const bool visibility = key == schema::meta::kLimitedVisibilityUnsuitableParam;
     if (!target && !visibility) continue;
     char* end = nullptr;
@@ -378,8 +378,7 @@ Status Map::Impl::judge_region(const PositionUncertainty& uncertainty, Assessmen
     out.road.distance_m = 0.0;
     out.valid_distance_m = a.valid_distance_m;
     out.threshold = a.threshold;
-    Status judged =
-        judge(impl.queries.assessment, out, impl.thresholds.limited_visibility_unsuitable);
+    Status judged = judge(impl.region_verdict, out, impl.thresholds.limited_visibility_unsuitable);
     if (judged.code == StatusCode::not_found) {
       throw std::runtime_error("segment " + std::to_string(segment_id) + " has no row");
     }
@@ -429,7 +428,9 @@ Result<Assessment> Map::assess(const Position& position, const AssessOptions& op
   try {
     Result<Assessment> result{Status{}, std::optional<Assessment>(std::in_place)};
     Assessment& a = *result.value;
-    Status status = impl.locate(position, options.max_distance_m, a.road);
+    const double reach_m =
+        position.uncertainty ? detail::region_reach_m(*position.uncertainty) : 0.0;
+    Status status = impl.locate(position, options.max_distance_m, a.road, reach_m);
     if (!status.ok()) return Result<Assessment>{std::move(status), std::nullopt};
     a.valid_distance_m = options.valid_distance_m.value_or(impl.thresholds.valid_distance_m);
     a.threshold = options.threshold.value_or(impl.thresholds.threshold);
@@ -445,6 +446,7 @@ Result<Assessment> Map::assess(const Position& position, const AssessOptions& op
   } catch (const std::exception& e) {
     impl.queries.candidates.reset();
     impl.queries.assessment.reset();
+    impl.region_verdict.reset();
     return Result<Assessment>{detail::status_of(e, impl.info.path), std::nullopt};
   }
 }

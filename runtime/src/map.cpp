@@ -438,43 +438,54 @@ Result<PlanePoint> Map::to_utm(const Position& position) const noexcept {
   return Result<PlanePoint>{Status{}, PlanePoint{p.x, p.y}};
 }
 
-Status Map::Impl::locate(const Position& position, double max_distance_m, NearestRoad& road) {
+Status Map::Impl::locate(const Position& position, double max_distance_m, NearestRoad& road,
+                         double region_reach_m) {
   schema::PlanePoint p;
   Status status = to_plane(position, p);
   if (!status.ok()) return status;
   std::int64_t best_id = -1;
+  std::size_t best_row = 0;
   detail::PolylineProjection best;
   best.distance_m = std::numeric_limits<double>::infinity();
+  located_rows = 0;
   // Grow the search box until the best candidate is inside the searched radius: then no
   // segment outside the box can be nearer, since its bounding box would intersect it.
-  for (double radius_m = std::min(16.0, max_distance_m);;
+  constexpr double kFirstRadiusM = 16.0;
+  for (double radius_m = std::min(kFirstRadiusM + region_reach_m, max_distance_m);;
        radius_m = std::min(radius_m * 2.0, max_distance_m)) {
     sqlite::Statement& stmt = queries.candidates;
     stmt.bind(1, p.x - radius_m);
     stmt.bind(2, p.x + radius_m);
     stmt.bind(3, p.y - radius_m);
     stmt.bind(4, p.y + radius_m);
+    std::size_t count = 0;
     while (stmt.step()) {
-      const std::int64_t fid = stmt.column_int64(0);
-      if (!schema::decode_linestring(stmt.column_blob(1), scratch)) {
+      if (count == region_segments.size()) region_segments.emplace_back();
+      detail::RegionSegment& row = region_segments[count];
+      row.id = stmt.column_int64(0);
+      if (!schema::decode_linestring(stmt.column_blob(1), row.points)) {
         stmt.reset();
-        throw detail::corrupt_segment_error(detail::segment_problem(fid, "malformed geometry"));
+        throw detail::corrupt_segment_error(detail::segment_problem(row.id, "malformed geometry"));
       }
       try {
-        detail::check_in_box(fid, scratch, stmt.column_double(2), stmt.column_double(3),
+        detail::check_in_box(row.id, row.points, stmt.column_double(2), stmt.column_double(3),
                              stmt.column_double(4), stmt.column_double(5));
       } catch (...) {
         stmt.reset();
         throw;
       }
-      const auto projection = detail::project_onto_polyline(scratch, p);
+      const auto projection = detail::project_onto_polyline(row.points, p);
       if (projection.distance_m < best.distance_m) {
-        best_id = fid;
+        best_id = row.id;
         best = projection;
-        best_geometry.swap(scratch);
       }
+      if (row.id == best_id) best_row = count;  // a larger box reads the best again
+      ++count;
     }
     stmt.reset();
+    located_rows = count;
+    located_at = p;
+    located_half_m = radius_m;
     if (best.distance_m <= radius_m || radius_m >= max_distance_m) break;
   }
   if (best_id < 0 || best.distance_m > max_distance_m) {
@@ -483,6 +494,7 @@ Status Map::Impl::locate(const Position& position, double max_distance_m, Neares
                   max_distance_m, p.x, p.y, info.zone.zone, info.zone.northern ? "N" : "S");
     return {StatusCode::not_found, text};
   }
+  best_geometry = region_segments[best_row].points;
   road.segment_id = best_id;
   road.query = {p.x, p.y};
   road.closest = {best.closest.x, best.closest.y};

@@ -105,15 +105,30 @@ Status thresholds_from(const MapInfo& info, Thresholds& out);
 /// invalid_argument unless every per-call threshold is finite and in range.
 Status check_assess_options(const AssessOptions& options);
 
+/// An edge of a region segment's polyline: its start and its vector, grid metres, and its
+/// squared length, m^2 (computed once per query, not once per sample).
+struct RegionEdge {
+  double start_x = 0.0, start_y = 0.0, dx = 0.0, dy = 0.0, length_sq_m2 = 0.0;
+};
+
 /// One segment near an uncertain position, with its geometry and bounding box (grid metres).
 struct RegionSegment {
   std::int64_t id = 0;
   std::vector<schema::PlanePoint> points;
+  std::vector<RegionEdge> edges;
   double min_x = 0.0, min_y = 0.0, max_x = 0.0, max_y = 0.0;
   std::size_t sample_count = 0;       ///< samples of the region whose nearest segment this is
   bool centreline_in_region = false;  ///< its centreline runs through the region's ellipse
   /// Per edge: the axial difference of its direction from the fix's, radians; -1 until needed.
   std::vector<double> edge_spread_rad;
+};
+
+/// A region segment's box and its distance from the fix (metres), in the order the
+/// nearest-segment search visits them: by that distance, then by index into region_segments.
+struct BoxCandidate {
+  double from_fix_m = 0.0;
+  double min_x = 0.0, min_y = 0.0, max_x = 0.0, max_y = 0.0;
+  std::size_t index = 0;
 };
 
 /// The geometry of an uncertain position's region: which segments it touches, how much of its
@@ -126,6 +141,15 @@ struct RegionGeometry {
   std::size_t fix_index = 0;      ///< the fix's own segment among them
   double heading_spread_rad = 0.0;
 };
+
+/// The `assessment` statement's SQL (kAssessColumns, in its order) with the columns that only
+/// describe a place (its class, curvature, terrain, speed, sight lines, ...) selected as NULL.
+std::string region_verdict_sql(int schema_version);
+
+/// How much wider than an exact locate's the first search box must be for the region of `u`
+/// to lie inside it whenever the nearest road is within that exact first box: twice the
+/// region's semi-major axis, metres (0 for an invalid `u`).
+double region_reach_m(const PositionUncertainty& u);
 
 /// `u` checked (finite, positive definite, probability in (0, 1)) and turned into the map's
 /// grid at `fix` (Frame::enu is rotated by the meridian convergence there). invalid_argument
@@ -143,9 +167,18 @@ struct Map::Impl {
   detail::Thresholds thresholds;
   std::vector<schema::PlanePoint> scratch;  // reused geometry buffer: no allocation per query
   std::vector<schema::PlanePoint> best_geometry;
-  // Reused by the region of an uncertain position; only the first segment_count are live.
+  // The rows (id, geometry) of locate's last R*Tree query, the first located_rows, whose box
+  // was located_at +- located_half_m; then the region of an uncertain position, which reuses
+  // them when its box lies inside that one (one R*Tree query instead of two).
   std::vector<detail::RegionSegment> region_segments;
-  std::vector<std::pair<double, std::size_t>> by_box_distance;  // (metres from the fix, index)
+  std::size_t located_rows = 0;
+  schema::PlanePoint located_at;
+  double located_half_m = 0.0;
+  std::vector<detail::BoxCandidate> by_box_distance;
+
+  /// The `assessment` row of one segment with its descriptive columns (those no verdict reads)
+  /// selected as NULL: what judge_region feeds the same judge for the region's segments.
+  sqlite::Statement region_verdict;
 
   Impl(std::unique_ptr<detail::WorkBudget> work_budget, sqlite::Database&& database,
        MapInfo&& map_info, detail::Thresholds map_thresholds)
@@ -153,16 +186,19 @@ struct Map::Impl {
         db(std::move(database)),
         info(std::move(map_info)),
         queries(db, info.schema_version),
-        thresholds(map_thresholds) {}
+        thresholds(map_thresholds),
+        region_verdict(db.prepare(detail::region_verdict_sql(info.schema_version))) {}
 
   /// The position in the map's UTM zone, or invalid_argument.
   Status to_plane(const Position& position, schema::PlanePoint& out) const noexcept;
 
   /// The nearest segment within max_distance_m (> 0, checked by the caller): fills the
   /// segment id, query, closest point and distance of `road` (not its attributes), and leaves
-  /// the segment's geometry in best_geometry. invalid_argument or not_found otherwise; throws
-  /// on an SQLite error or a malformed geometry.
-  Status locate(const Position& position, double max_distance_m, NearestRoad& road);
+  /// the segment's geometry in best_geometry. Its first search box is widened by
+  /// `region_reach_m` (see region_reach_m()) so that region_geometry can reuse its rows.
+  /// invalid_argument or not_found otherwise; throws on an SQLite error or a malformed geometry.
+  Status locate(const Position& position, double max_distance_m, NearestRoad& road,
+                double region_reach_m = 0.0);
 
   /// The side of the centreline `road` (just located: its geometry is in best_geometry) the
   /// query stands on: +1 left of the way's direction, -1 right, 0 on the centreline (within
@@ -174,6 +210,11 @@ struct Map::Impl {
   /// where exactly one other segment continues the road (a graph node of degree 2), which
   /// gives the bisector of the two segments' directions there. Throws like locate.
   double direction_at(std::int64_t segment_id, const detail::PolylineProjection& at);
+
+  /// The segments whose box meets the box fix +- (half_x_m, half_y_m), with their geometry
+  /// and box, into the first (returned) count of region_segments: locate's rows when its last
+  /// query at `fix` covered that box, else an R*Tree query. Throws like locate.
+  std::size_t region_rows(const schema::PlanePoint& fix, double half_x_m, double half_y_m);
 
   /// The region of `uncertainty` around the located fix `road` (locate called): fills
   /// region_segments and `out`. invalid_argument for a covariance that is not finite and

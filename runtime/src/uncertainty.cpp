@@ -4,8 +4,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iterator>
 #include <limits>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "map_impl.hpp"
 #include "polyline.hpp"
@@ -102,26 +105,52 @@ Status grid_covariance(const PositionUncertainty& u, const geo::UtmZone& zone,
   return {};
 }
 
-/// Lower bound of the squared distance from `p` to anything inside the box of `s`, m^2.
-double box_distance_sq_m2(const detail::RegionSegment& s, const schema::PlanePoint& p) {
-  const double dx = std::max({s.min_x - p.x, 0.0, p.x - s.max_x});
-  const double dy = std::max({s.min_y - p.y, 0.0, p.y - s.max_y});
+/// The bounding box of the segment's points.
+void set_box(detail::RegionSegment& s) {
+  s.min_x = s.max_x = s.points.front().x;
+  s.min_y = s.max_y = s.points.front().y;
+  for (const schema::PlanePoint& q : s.points) {
+    s.min_x = std::min(s.min_x, q.x);
+    s.max_x = std::max(s.max_x, q.x);
+    s.min_y = std::min(s.min_y, q.y);
+    s.max_y = std::max(s.max_y, q.y);
+  }
+}
+
+/// Lower bound of the squared distance from `p` to anything inside the box `b`, m^2.
+double box_distance_sq_m2(const detail::BoxCandidate& b, const schema::PlanePoint& p) {
+  const double dx = std::max(std::max(b.min_x - p.x, 0.0), p.x - b.max_x);
+  const double dy = std::max(std::max(b.min_y - p.y, 0.0), p.y - b.max_y);
   return dx * dx + dy * dy;
 }
 
-/// Squared distance from `p` to the polyline, m^2, and the edge it is nearest to (squares,
-/// not hypot: this runs for every sample and candidate).
-double polyline_distance_sq_m2(const std::vector<schema::PlanePoint>& points,
-                               const schema::PlanePoint& p, std::size_t& edge) {
-  double best = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i + 1 < points.size(); ++i) {
-    const schema::PlanePoint a = points[i], b = points[i + 1];
+double box_distance_sq_m2(const detail::RegionSegment& s, const schema::PlanePoint& p) {
+  return box_distance_sq_m2(detail::BoxCandidate{0.0, s.min_x, s.min_y, s.max_x, s.max_y, 0}, p);
+}
+
+/// The segment's edges (start, vector, squared length).
+void set_edges(detail::RegionSegment& s) {
+  s.edges.resize(s.points.size() - 1);
+  for (std::size_t i = 0; i + 1 < s.points.size(); ++i) {
+    const schema::PlanePoint a = s.points[i], b = s.points[i + 1];
     const double dx = b.x - a.x, dy = b.y - a.y;
-    const double length_sq = dx * dx + dy * dy;
+    s.edges[i] = {a.x, a.y, dx, dy, dx * dx + dy * dy};
+  }
+}
+
+/// Squared distance from `p` to the polyline of `edges`, m^2, and the edge it is nearest to
+/// (squares, not hypot: this runs for every sample and candidate).
+inline double polyline_distance_sq_m2(const std::vector<detail::RegionEdge>& edges,
+                                      const schema::PlanePoint& p, std::size_t& edge) {
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < edges.size(); ++i) {
+    const detail::RegionEdge& e = edges[i];
     double t = 0.0;
-    if (length_sq > 0.0)
-      t = std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / length_sq, 0.0, 1.0);
-    const double ex = a.x + t * dx - p.x, ey = a.y + t * dy - p.y;
+    if (e.length_sq_m2 > 0.0) {
+      t = std::clamp(((p.x - e.start_x) * e.dx + (p.y - e.start_y) * e.dy) / e.length_sq_m2, 0.0,
+                     1.0);
+    }
+    const double ex = e.start_x + t * e.dx - p.x, ey = e.start_y + t * e.dy - p.y;
     const double d = ex * ex + ey * ey;
     if (d < best) {
       best = d;
@@ -138,6 +167,103 @@ double axial_difference_rad(double a_rad, double b_rad) {
 }
 
 }  // namespace
+
+std::string detail::region_verdict_sql(int schema_version) {
+  using C = schema::SegmentColumn;
+  // What judge reads only to report, never to decide suitable (nor to tell the road): a
+  // column missing from this list is read, so a column a verdict comes to need is never lost.
+  static constexpr C kDescriptive[] = {C::highway,
+                                       C::length_m,
+                                       C::class_cost,
+                                       C::junction_distance_m,
+                                       C::radius_m,
+                                       C::curvature_level,
+                                       C::curvature_cost,
+                                       C::landform,
+                                       C::elevation_cost,
+                                       C::maxspeed_kmh,
+                                       C::lanes,
+                                       C::width_m,
+                                       C::crossing_distance_m,
+                                       C::rank,
+                                       C::override_note,
+                                       C::sight_forward_m,
+                                       C::sight_backward_m,
+                                       C::sight_min_m,
+                                       C::required_sight_m};
+  std::vector<std::string> select;
+  for (std::size_t e = 0; e < schema::kSegmentColumnCount; ++e) {
+    const auto column = static_cast<C>(e);
+    int position = -1;
+    try {
+      position = kAssessColumns[column];
+    } catch (const std::logic_error&) {
+      continue;  // not read by assess
+    }
+    if (select.size() <= static_cast<std::size_t>(position)) select.resize(position + 1);
+    const bool descriptive = std::find(std::begin(kDescriptive), std::end(kDescriptive), column) !=
+                             std::end(kDescriptive);
+    select[position] =
+        descriptive ? "NULL" : schema::SegmentSelection({column}).sql("", schema_version);
+  }
+  std::string sql = "SELECT ";
+  for (std::size_t i = 0; i < select.size(); ++i) sql += (i ? ", " : "") + select[i];
+  return sql + " FROM " + std::string(schema::kSegmentsTable) + " WHERE fid = ?1";
+}
+
+double detail::region_reach_m(const PositionUncertainty& u) {
+  // The covariance's largest eigenvalue does not change when it is turned from ENU into the
+  // grid, so neither does the region's semi-major axis.
+  const double half_trace = 0.5 * (u.east_east_m2 + u.north_north_m2);
+  const double root = std::hypot(0.5 * (u.east_east_m2 - u.north_north_m2), u.east_north_m2);
+  const double p = u.region_probability;
+  const double semi_major_m = std::sqrt(-2.0 * std::log1p(-p) * (half_trace + root));
+  // Invalid uncertainties widen nothing: region_geometry rejects them after the locate.
+  return std::isfinite(semi_major_m) && semi_major_m > 0.0 ? 2.0 * semi_major_m : 0.0;
+}
+
+std::size_t Map::Impl::region_rows(const schema::PlanePoint& fix, double half_x_m,
+                                   double half_y_m) {
+  const bool located_here = located_rows > 0 && located_at.x == fix.x && located_at.y == fix.y;
+  if (located_here && half_x_m <= located_half_m && half_y_m <= located_half_m) {
+    // Locate's box holds the region's: keep its rows whose geometry meets the region's box.
+    // Those the R*Tree would add besides (its boxes are rounded outwards to floats) neither
+    // meet the ellipse nor are nearest to any place of it, and the order stays the R*Tree's.
+    std::size_t count = 0;
+    for (std::size_t row = 0; row < located_rows; ++row) {
+      detail::RegionSegment& s = region_segments[row];
+      set_box(s);
+      if (s.max_x < fix.x - half_x_m || s.min_x > fix.x + half_x_m || s.max_y < fix.y - half_y_m ||
+          s.min_y > fix.y + half_y_m) {
+        continue;
+      }
+      if (row != count) std::swap(s, region_segments[count]);
+      ++count;
+    }
+    located_rows = 0;  // region_segments now holds the region's rows
+    return count;
+  }
+  located_rows = 0;
+  sqlite::Statement& stmt = queries.candidates;
+  stmt.bind(1, fix.x - half_x_m);
+  stmt.bind(2, fix.x + half_x_m);
+  stmt.bind(3, fix.y - half_y_m);
+  stmt.bind(4, fix.y + half_y_m);
+  std::size_t count = 0;
+  while (stmt.step()) {
+    if (count == region_segments.size()) region_segments.emplace_back();
+    detail::RegionSegment& s = region_segments[count];
+    s.id = stmt.column_int64(0);
+    if (!schema::decode_linestring(stmt.column_blob(1), s.points)) {
+      stmt.reset();
+      throw detail::corrupt_segment_error(detail::segment_problem(s.id, "malformed geometry"));
+    }
+    set_box(s);
+    ++count;
+  }
+  stmt.reset();
+  return count;
+}
 
 Status Map::Impl::region_geometry(const PositionUncertainty& uncertainty, const NearestRoad& road,
                                   detail::RegionGeometry& out) {
@@ -166,30 +292,19 @@ Status Map::Impl::region_geometry(const PositionUncertainty& uncertainty, const 
   const double reach_m = road.distance_m + out.semi_major_m;
   const double half_x = k * cov.l11 + reach_m;
   const double half_y = k * std::sqrt(cov.nn) + reach_m;
-  sqlite::Statement& stmt = queries.candidates;
-  stmt.bind(1, fix.x - half_x);
-  stmt.bind(2, fix.x + half_x);
-  stmt.bind(3, fix.y - half_y);
-  stmt.bind(4, fix.y + half_y);
-  std::size_t count = 0;
+  const std::size_t count = region_rows(fix, half_x, half_y);
   out.fix_index = std::numeric_limits<std::size_t>::max();
-  while (stmt.step()) {
-    if (count == region_segments.size()) region_segments.emplace_back();
-    detail::RegionSegment& s = region_segments[count];
-    s.id = stmt.column_int64(0);
-    if (!schema::decode_linestring(stmt.column_blob(1), s.points)) {
-      stmt.reset();
-      throw std::runtime_error("segment " + std::to_string(s.id) + " has a malformed geometry");
-    }
-    s.min_x = s.max_x = s.points.front().x;
-    s.min_y = s.max_y = s.points.front().y;
-    for (const schema::PlanePoint& q : s.points) {
-      s.min_x = std::min(s.min_x, q.x);
-      s.max_x = std::max(s.max_x, q.x);
-      s.min_y = std::min(s.min_y, q.y);
-      s.max_y = std::max(s.max_y, q.y);
-    }
+  // A margin of a millionth keeps the shortcut off the rounding of the exact test below.
+  const double beyond_ellipse_m = out.semi_major_m * (1.0 + 1e-6) + 1e-6;
+  const double beyond_ellipse_sq_m2 = beyond_ellipse_m * beyond_ellipse_m;
+  for (std::size_t row = 0; row < count; ++row) {
+    detail::RegionSegment& s = region_segments[row];
     s.sample_count = 0;
+    if (s.id == road.segment_id) out.fix_index = row;
+    if (box_distance_sq_m2(s, fix) > beyond_ellipse_sq_m2) {
+      s.centreline_in_region = false;  // the ellipse lies within semi_major_m of the fix
+      continue;
+    }
     // Does the centreline run through the ellipse? In the whitened frame (z = L^-1 (x - fix))
     // the ellipse is the disc of radius k, and a linear map keeps straight edges straight.
     scratch.resize(s.points.size());
@@ -198,10 +313,7 @@ Status Map::Impl::region_geometry(const PositionUncertainty& uncertainty, const 
       scratch[i] = {z1, (s.points[i].y - fix.y - cov.l21 * z1) / cov.l22};
     }
     s.centreline_in_region = detail::project_onto_polyline(scratch, {0.0, 0.0}).distance_m <= k;
-    if (s.id == road.segment_id) out.fix_index = count;
-    ++count;
   }
-  stmt.reset();
   if (out.fix_index == std::numeric_limits<std::size_t>::max()) {
     throw std::runtime_error("segment " + std::to_string(road.segment_id) + " is not indexed");
   }
@@ -211,14 +323,20 @@ Status Map::Impl::region_geometry(const PositionUncertainty& uncertainty, const 
   const double fix_direction =
       detail::polyline_direction_rad(own.points, detail::project_onto_polyline(own.points, fix));
   // The road's direction at a sample is its nearest edge's: computed once per edge.
-  for (std::size_t i = 0; i < count; ++i) {
-    region_segments[i].edge_spread_rad.assign(region_segments[i].points.size() - 1, -1.0);
-  }
   by_box_distance.clear();
   for (std::size_t i = 0; i < count; ++i) {
-    by_box_distance.emplace_back(std::sqrt(box_distance_sq_m2(region_segments[i], fix)), i);
+    detail::RegionSegment& s = region_segments[i];
+    s.edge_spread_rad.assign(s.points.size() - 1, -1.0);
+    set_edges(s);
+    detail::BoxCandidate box{0.0, s.min_x, s.min_y, s.max_x, s.max_y, i};
+    box.from_fix_m = std::sqrt(box_distance_sq_m2(box, fix));
+    by_box_distance.push_back(box);
   }
-  std::sort(by_box_distance.begin(), by_box_distance.end());
+  std::sort(by_box_distance.begin(), by_box_distance.end(),
+            [](const detail::BoxCandidate& a, const detail::BoxCandidate& b) {
+              return a.from_fix_m < b.from_fix_m ||
+                     (a.from_fix_m == b.from_fix_m && a.index < b.index);
+            });
   const UnitDirections& unit = unit_directions();
   std::size_t previous = out.fix_index;
   out.heading_spread_rad = 0.0;
@@ -226,6 +344,9 @@ Status Map::Impl::region_geometry(const PositionUncertainty& uncertainty, const 
   for (int ring = 0; ring < kRings; ++ring) {
     // The ring's middle in probability: P(r <= radius) = p (ring + 1/2) / kRings.
     const double radius = std::sqrt(-2.0 * std::log1p(-p * (ring + 0.5) / kRings));
+    // No sample of the ring is farther from the fix than this (the ellipse's semi-major axis
+    // scaled to the ring, with a margin for rounding): the stopping bound, one root per ring.
+    const double ring_reach_m = out.semi_major_m * radius / k * (1.0 + 1e-9);
     for (int step = 0; step < kAngles; ++step) {
       const int half_steps = 2 * step + (ring % 2);
       const double z1 = radius * unit.cos_values[half_steps];
@@ -233,18 +354,17 @@ Status Map::Impl::region_geometry(const PositionUncertainty& uncertainty, const 
       const schema::PlanePoint place{fix.x + cov.l11 * z1, fix.y + cov.l21 * z1 + cov.l22 * z2};
       // Nearest segment: start from the previous sample's (neighbours usually share it), go
       // through the others by their boxes' distance from the fix, and stop where even that
-      // less the sample's distance from the fix is farther than the best so far.
-      const double from_fix_m =
-          std::sqrt((place.x - fix.x) * (place.x - fix.x) + (place.y - fix.y) * (place.y - fix.y));
+      // less the ring's reach is farther than the best so far.
       std::size_t best = previous;
       std::size_t best_edge = 0;
-      double best_sq = polyline_distance_sq_m2(region_segments[best].points, place, best_edge);
-      for (const auto& [box_from_fix_m, i] : by_box_distance) {
-        const double bound_m = box_from_fix_m - from_fix_m;
+      double best_sq = polyline_distance_sq_m2(region_segments[best].edges, place, best_edge);
+      for (const detail::BoxCandidate& box : by_box_distance) {
+        const double bound_m = box.from_fix_m - ring_reach_m;
         if (bound_m > 0.0 && bound_m * bound_m >= best_sq) break;
-        if (i == previous || box_distance_sq_m2(region_segments[i], place) >= best_sq) continue;
+        const std::size_t i = box.index;
+        if (i == previous || box_distance_sq_m2(box, place) >= best_sq) continue;
         std::size_t edge = 0;
-        const double d = polyline_distance_sq_m2(region_segments[i].points, place, edge);
+        const double d = polyline_distance_sq_m2(region_segments[i].edges, place, edge);
         if (d < best_sq) {
           best = i;
           best_sq = d;
