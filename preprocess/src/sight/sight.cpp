@@ -293,27 +293,6 @@ class Scene {
     });
   }
 
-  /// Every obstacle edge that may cross the convex hull of `eye` and `outline` (each listed
-  /// once, mostly: the edges in the grid cells under the hull widened by Fan::kMarginM), into
-  /// `out`, with the hull's points in `points` and the hull in `hull` (buffers).
-  void edges_near(const Point3& eye, const std::vector<PlanePoint>& outline,
-                  std::vector<PlanePoint>& points, std::vector<PlanePoint>& hull,
-                  std::vector<sight_detail::CandidateEdge>& out) const {
-    out.clear();
-    points.assign(outline.begin(), outline.end());
-    points.push_back({eye.x, eye.y});
-    sight_detail::convex_hull(points, hull);
-    std::array<std::uint32_t, 64> judged;  // most edges offered once, as in fan_candidates
-    judged.fill(std::numeric_limits<std::uint32_t>::max());
-    grid_.any_in_polygon(hull, Fan::kMarginM, [&](std::uint32_t i) {
-      std::uint32_t& slot = judged[i & 63];
-      if (slot == i) return false;
-      slot = i;
-      out.push_back({edges_.a(i), edges_.b(i), i, {}});
-      return false;
-    });
-  }
-
   /// Edge i's opaque band above the ground.
   std::pair<float, float> band(std::uint32_t i) const {
     const ObstacleEdge edge = edges_[i];
@@ -561,22 +540,16 @@ struct FlatBuffers {
   struct Shadow {
     double from_m, to_m;  ///< along the path
   };
-  std::vector<Shadow> shadows;                ///< one kerb's, in the chunk
-  std::vector<PlanePoint> hull_points, hull;  ///< the chunk's hull (and its input)
-  std::vector<PlanePoint> relative;           ///< the outline relative to the eye
+  std::vector<Shadow> shadows;         ///< one kerb's, in the chunk
+  std::vector<PlanePoint> relative;    ///< the outline relative to the eye
   std::vector<double> leg_sign;        ///< each leg's turn seen from the eye: 1, -1, 0 (in line)
   std::vector<double> side_a, side_b;  ///< an edge's ends against each outline point's ray
 };
 
-/// The first of the positions first..last (position_m(index): distance along the path) that the
-/// `candidates` hide from `eye` on flat ground, or last + 1; b.outline holds the road from the
-/// position before `first` to position_m(last). Leaves the shadows in b.shadows (for the
-/// bisection).
-template <typename PositionM>
-std::size_t first_hidden(const Point3& eye,
-                         const std::vector<sight_detail::CandidateEdge>& candidates,
-                         std::size_t first, std::size_t last, const PositionM& position_m,
-                         const Scene& scene, const SightParameters& p, FlatBuffers& b) {
+/// The shadows the `candidates` cast from `eye` on flat ground on the legs of b.outline, in
+/// metres along the path, into b.shadows.
+void cast_shadows(const Point3& eye, const std::vector<sight_detail::CandidateEdge>& candidates,
+                  const Scene& scene, const SightParameters& p, FlatBuffers& b) {
   b.shadows.clear();
   // The outline relative to the eye, and each leg's orientation: an edge wholly outside one of
   // a leg's two rays from the eye casts no shadow on it, and those side tests share each
@@ -627,11 +600,18 @@ std::size_t first_hidden(const Point3& eye,
       b.shadows.push_back({from_m + u.from * length_m, from_m + u.to * length_m});
     }
   }
+}
+
+/// The first of the positions first..last (position_m(index): distance along the path, every
+/// step_m) inside one of `shadows`, or last + 1.
+template <typename PositionM>
+std::size_t first_in_shadow(const std::vector<FlatBuffers::Shadow>& shadows, std::size_t first,
+                            std::size_t last, const PositionM& position_m, double step_m) {
   std::size_t hidden = last + 1;
-  for (const FlatBuffers::Shadow& shadow : b.shadows) {
+  for (const FlatBuffers::Shadow& shadow : shadows) {
     // The index of the first position at or after from_m, then corrected for the rounding of
     // the division and for the clamp at the end.
-    const double index = std::ceil(shadow.from_m / p.step_m);
+    const double index = std::ceil(shadow.from_m / step_m);
     std::size_t j = index <= double(first) ? first
                     : index > double(last) ? last + 1
                                            : static_cast<std::size_t>(index);
@@ -699,8 +679,8 @@ double flat_worse_kerb_m(const Scene& scene, const Path& path, const std::array<
     bool hidden_somewhere = false;
     double answer_m = std::numeric_limits<double>::infinity();
     for (const Point3& eye : eyes) {
-      const std::size_t hidden =
-          first_hidden(eye, candidates, first, last, position_m, scene, p, b);
+      cast_shadows(eye, candidates, scene, p, b);
+      const std::size_t hidden = first_in_shadow(b.shadows, first, last, position_m, p.step_m);
       if (hidden > last) continue;
       const auto visible = [&](double d_m) {
         return std::none_of(b.shadows.begin(), b.shadows.end(), [&](const auto& shadow) {
