@@ -186,6 +186,35 @@ TEST(Sight, LShapedRoadWithABuildingInTheCorner) {
   EXPECT_FLOAT_EQ(*segment_at(open, -30, 0).sight_forward_m, 300.0f);
 }
 
+TEST(Sight, ABuildingBetweenTheKerbAndTheRoadBeyondABend) {
+  // The road runs east along y = 0 to the corner (0, 0), then 200 m north-east along y = x (400 m
+  // in all: 20 segments of 20 m). The robot stands at the segment whose midpoint is x = -30, its
+  // kerbs at (-30, +-3). A 10 m building x in [-20, -10], y in [5, 15] stands inside the bend,
+  // between the north kerb and the road beyond the corner.
+  //
+  // By hand, a vehicle at (c, c) past the corner (s = c sqrt 2 along the diagonal): the line from
+  // the north kerb (-30, 3) crosses x = -10 at y = 3 + 20 (c - 3) / (c + 30), which reaches the
+  // building's corner (-10, 5) when 18 c = 120, c = 6.667; beyond, it runs through the building
+  // (it meets y = 5 at x = -30 + 2 (c + 30) / (c - 3) in [-20, -10] up to c = 11.25, then the
+  // west wall below y = 13). From the south kerb (-30, -3): -3 + 20 (c + 3) / (c + 30) = 5 at
+  // c = 15, later. The worse kerb sees 30 m to the corner and 6.667 sqrt 2 = 9.428 m beyond:
+  // 39.43 m (the 5 m steps find it hidden at 40 m; the bisection stops 8 cm short at most).
+  const double diagonal = 200.0 / std::sqrt(2.0);
+  const std::vector<PlanePoint> road{{-200, 0}, {0, 0}, {diagonal, diagonal}};
+  rp::RoadGraph graph = graph_of(road, 20.0);
+  const rp::SightParameters p;
+  rp::compute_sight(graph, nullptr, box(-20, 5, -10, 15, 10.0), p);
+  const rp::Segment& s = segment_at(graph, -30, 0);
+  EXPECT_NEAR(*s.sight_forward_m, 30.0 + 20.0 / 3.0 * std::sqrt(2.0) - 0.04, 0.05);
+  EXPECT_FLOAT_EQ(*s.sight_backward_m, 300.0f);  // 170 m of open road to a dead end
+  // The building raised on pillars 2 m high: every line passes under it (at most 1.1 m high).
+  rp::RoadGraph raised = graph_of(road, 20.0);
+  std::vector<rp::ObstacleEdge> pillars = box(-20, 5, -10, 15, 10.0);
+  for (rp::ObstacleEdge& e : pillars) e.bottom_m = 2.0f;
+  rp::compute_sight(raised, nullptr, pillars, p);
+  EXPECT_FLOAT_EQ(*segment_at(raised, -30, 0).sight_forward_m, 300.0f);
+}
+
 TEST(Sight, FollowsTheStraightestContinuationThroughAJunction) {
   // Three ways meet at (0, 0): west (-200, 0)-(0, 0), east (0, 0)-(300, 10) (a 1.9 degree
   // turn) and north (0, 0)-(0, 300) (90 degrees). Looking east from the segment at x = -30, the

@@ -124,9 +124,10 @@ struct SightReport {
   std::size_t limited = 0;          ///< of them LIMITED_VISIBILITY
   std::size_t skipped_tunnels = 0;  ///< tunnel segments (no sight computed)
   /// Lines of sight tested one by one (vehicle positions and the bisection), each against its
-  /// fan's candidate edges (and the terrain).
+  /// fan's candidate edges (and the terrain); with a terrain only (flat ground reads shadows).
   std::size_t lines_of_sight = 0;
-  std::size_t fans = 0;             ///< fans of consecutive positions tried
+  /// Fans of consecutive positions tried; on flat ground the chunks (one hull for both kerbs).
+  std::size_t fans = 0;
   std::size_t clear_fans = 0;       ///< of them without a candidate edge
   std::size_t fan_positions = 0;    ///< positions clear fans settled without a line (no terrain)
   std::size_t candidate_edges = 0;  ///< the fans' candidate edges (that may block a line)
