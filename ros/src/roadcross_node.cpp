@@ -25,6 +25,7 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -101,12 +102,26 @@ struct Settings {
 };
 
 /// Reads every parameter (units and ranges: config/roadcross.yaml). False after a ROS_FATAL.
+/// "[a, b]" as the paths a and b (blanks around each trimmed); any other text as one path.
+std::vector<std::string> split_path_list(const std::string& text) {
+  if (text.size() < 2 || text.front() != '[' || text.back() != ']') return {text};
+  std::vector<std::string> paths;
+  std::stringstream items(text.substr(1, text.size() - 2));
+  for (std::string item; std::getline(items, item, ',');) {
+    const std::size_t first = item.find_first_not_of(" \t");
+    if (first == std::string::npos) continue;
+    paths.push_back(item.substr(first, item.find_last_not_of(" \t") - first + 1));
+  }
+  return paths;
+}
+
 bool read_settings(const ros::NodeHandle& nh, Settings& s) {
   // ~db: one path (a map or a directory of maps), or a list of them (a set of maps).
+  // On the command line (_db:=[a.gpkg, b.gpkg]) roscpp keeps a list as the string itself.
   std::string one_path;
   if (nh.getParam("db", s.db_paths)) {
   } else if (nh.getParam("db", one_path) && !one_path.empty()) {
-    s.db_paths = {one_path};
+    s.db_paths = split_path_list(one_path);
   }
   if (s.db_paths.empty()) {
     ROS_FATAL(

@@ -172,25 +172,14 @@ std::string detail::region_verdict_sql(int schema_version) {
   using C = schema::SegmentColumn;
   // What judge reads only to report, never to decide suitable (nor to tell the road): a
   // column missing from this list is read, so a column a verdict comes to need is never lost.
-  static constexpr C kDescriptive[] = {C::highway,
-                                       C::length_m,
-                                       C::class_cost,
-                                       C::junction_distance_m,
-                                       C::radius_m,
-                                       C::curvature_level,
-                                       C::curvature_cost,
-                                       C::landform,
-                                       C::elevation_cost,
-                                       C::maxspeed_kmh,
-                                       C::lanes,
-                                       C::width_m,
-                                       C::crossing_distance_m,
-                                       C::rank,
-                                       C::override_note,
-                                       C::sight_forward_m,
-                                       C::sight_backward_m,
-                                       C::sight_min_m,
-                                       C::required_sight_m};
+  // length_m and rank stay read: the corrupt-map guard requires them (length_m always, rank
+  // with score).
+  static constexpr C kDescriptive[] = {C::highway,       C::class_cost,      C::junction_distance_m,
+                                       C::radius_m,      C::curvature_level, C::curvature_cost,
+                                       C::landform,      C::elevation_cost,  C::maxspeed_kmh,
+                                       C::lanes,         C::width_m,         C::crossing_distance_m,
+                                       C::override_note, C::sight_forward_m, C::sight_backward_m,
+                                       C::sight_min_m,   C::required_sight_m};
   std::vector<std::string> select;
   for (std::size_t e = 0; e < schema::kSegmentColumnCount; ++e) {
     const auto column = static_cast<C>(e);

@@ -136,7 +136,7 @@ import shutil, sqlite3, sys
 db, copy = sys.argv[1], sys.argv[2]
 c = sqlite3.connect(db)
 c.execute("PRAGMA wal_autocheckpoint = 0")
-c.execute("INSERT INTO roadcross_metadata VALUES ('pending', 'x')")
+c.execute("INSERT INTO roadcross_metadata (key, value) VALUES ('pending', 'x')")
 c.commit()
 shutil.copy(db, copy)
 shutil.copy(db + "-wal", copy + "-wal")
@@ -192,7 +192,7 @@ expect_failure "simulate --runs 1e9" "--runs is 1000000000, must be in [1, 10000
   timeout 20 "$ROADCROSS" simulate --runs 1000000000
 # 200 000 metadata rows: info --json in seconds, every row in the output.
 db=$(damaged many_metadata "WITH RECURSIVE n(i) AS (SELECT 1 UNION ALL SELECT i + 1 FROM n WHERE i < 200000)
-  INSERT INTO roadcross_metadata SELECT printf('zz.%06d', i), 'x' FROM n")
+  INSERT INTO roadcross_metadata (key, value) SELECT printf('zz.%06d', i), 'x' FROM n")
 start=$(date +%s)
 timeout 60 "$ROADCROSS" info "$db" --json >"$WORK/many.json" &&
   python3 -c "import json; m = json.load(open('$WORK/many.json'))['metadata']; assert len(m) > 200000 and m['zz.200000'] == 'x'" &&

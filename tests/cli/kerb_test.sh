@@ -8,8 +8,8 @@ PROFILES="$ROADCROSS_TEST_DATA_DIR/../../docs/profiles"
 "$ROADCROSS_BUILD" --osm "$OSM" -o "$WORK/k.gpkg" -q
 db() { sqlite3 "$WORK/k.gpkg" "$1"; }
 
-[[ $(db "SELECT value FROM roadcross_metadata WHERE key = 'schema_version'") == 3 ]] &&
-  pass "schema version 3" || fail "schema version"
+[[ $(db "SELECT value FROM roadcross_metadata WHERE key = 'schema_version'") == 4 ]] &&
+  pass "schema version 4" || fail "schema version"
 # The crossing of way 10 (kerb nodes: lowered 3 cm, lowered but measured 12 cm, and the
 # crossing node's lowered: the measured 0.12 m counts) and the flush kerb node of way 11; no
 # other segment has any.

@@ -18,9 +18,13 @@ shared=$(osmium cat "$WORK/west.osm.pbf" -f opl | cut -d' ' -f1 | sort >"$WORK/w
 "$ROADCROSS_BUILD" --osm "$WORK/merged.osm.pbf" -o "$WORK/merged.gpkg" -q
 "$ROADCROSS_BUILD" --osm "$WORK/west.osm.pbf" -o "$WORK/west.gpkg" -q
 
-# The whole database as SQL text, without the input rows of the metadata.
+# The whole database as SQL text, the metadata as key/value pairs without the input rows (their
+# row ids shift with the number of inputs) and without what digests them: the metadata table's
+# column digests and the map_id (segments' and crossings' digests stay compared).
 dump_without_inputs() {
-  sqlite3 "$1" .dump | grep -v "^INSERT INTO roadcross_metadata VALUES('input\."
+  sqlite3 "$1" .dump | grep -v "^INSERT INTO roadcross_metadata VALUES("
+  sqlite3 "$1" "SELECT key, value FROM roadcross_metadata WHERE key NOT LIKE 'input.%'
+    AND key NOT LIKE 'content.roadcross_metadata.%' AND key != 'map_id' ORDER BY key"
 }
 dump_without_inputs "$WORK/two.gpkg" >"$WORK/two.sql"
 dump_without_inputs "$WORK/merged.gpkg" >"$WORK/merged.sql"

@@ -48,6 +48,7 @@ while read -r column type; do
     geom:*) change="geom = (SELECT geom FROM segments WHERE fid = $first + 1)" ;;
     *:TEXT) change="$column = coalesce($column, '') || 'x'" ;;
     *:INTEGER) change="$column = coalesce($column, 0) + 1" ;;
+    *:BOOLEAN) change="$column = 1 - coalesce($column, 0)" ;;
     *:REAL) change="$column = coalesce($column, 0) + 0.5" ;;
     *) fail "column $column has type '$type' this test does not know"; continue ;;
   esac

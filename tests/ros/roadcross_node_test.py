@@ -231,7 +231,8 @@ def main():
                              text=True, timeout=60)
         text = res.stdout + res.stderr
         check(res.returncode != 0 and expected in text,
-              f"{what}: exit {res.returncode}, says '{expected}'")
+              f"{what}: exit {res.returncode}, says '{expected}'" +
+              ("" if expected in text else f" (it said: {text.strip()[-400:]})"))
         subprocess.run(["rosparam", "delete", "/" + name], env=env, capture_output=True)
 
     # No --wait: the master is up, and on a fresh master roslaunch --wait hangs in its first

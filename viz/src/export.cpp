@@ -32,21 +32,38 @@ DatasetPtr open_db(const std::string& path) {
   return DatasetPtr(ds, GDALClose);
 }
 
-// Adds the source's fields, then fid and (for segments) the runtime's judgement.
-void define_fields(OGRLayer& out, OGRFeatureDefn& in, bool judged) {
-  for (int i = 0; i < in.GetFieldCount(); ++i) {
-    if (out.CreateField(in.GetFieldDefn(i)) != OGRERR_NONE)
-      throw std::runtime_error("cannot create field " +
-                               std::string(in.GetFieldDefn(i)->GetNameRef()));
-  }
+void create_field(OGRLayer& out, OGRFieldDefn& field) {
+  if (out.CreateField(&field) != OGRERR_NONE)
+    throw std::runtime_error("cannot create field " + std::string(field.GetNameRef()));
+}
+
+// Where the runtime's judgement goes in the output's fields.
+struct JudgementFields {
+  int suitable = -1;
+  int reasons = -1;
+};
+
+// Adds the source's fields, then fid and (for segments) the runtime's judgement: suitable (the
+// stored column of that name since schema version 4, filled with the runtime's answer) and
+// assess_reasons.
+JudgementFields define_fields(OGRLayer& out, OGRFeatureDefn& in, bool judged) {
+  for (int i = 0; i < in.GetFieldCount(); ++i) create_field(out, *in.GetFieldDefn(i));
   OGRFieldDefn fid("fid", OFTInteger64);
-  out.CreateField(&fid);
-  if (!judged) return;
-  OGRFieldDefn suitable("suitable", OFTInteger);
-  suitable.SetSubType(OFSTBoolean);
-  out.CreateField(&suitable);
+  create_field(out, fid);
+  JudgementFields fields;
+  if (!judged) return fields;
+  fields.suitable = in.GetFieldIndex("suitable");
+  int next = in.GetFieldCount() + 1;
+  if (fields.suitable < 0) {
+    OGRFieldDefn suitable("suitable", OFTInteger);
+    suitable.SetSubType(OFSTBoolean);
+    create_field(out, suitable);
+    fields.suitable = next++;
+  }
   OGRFieldDefn reasons("assess_reasons", OFTString);
-  out.CreateField(&reasons);
+  create_field(out, reasons);
+  fields.reasons = next;
+  return fields;
 }
 
 std::string join(const std::vector<std::string>& codes) {
@@ -56,7 +73,7 @@ std::string join(const std::vector<std::string>& codes) {
 }
 
 std::size_t copy_features(OGRLayer& in, OGRLayer& out, OGRCoordinateTransformation& to_wgs84,
-                          Map* judge) {
+                          Map* judge, const JudgementFields& fields) {
   std::size_t count = 0;
   OGRFeatureDefn* out_defn = out.GetLayerDefn();
   const int n_in = in.GetLayerDefn()->GetFieldCount();
@@ -74,8 +91,8 @@ std::size_t copy_features(OGRLayer& in, OGRLayer& out, OGRCoordinateTransformati
     if (judge) {
       Result<Assessment> a = judge->assess_segment(f->GetFID());
       if (!a.ok()) throw std::runtime_error(a.status.message);
-      g.SetField(n_in + 1, a->suitable ? 1 : 0);
-      g.SetField(n_in + 2, join(a->reasons).c_str());
+      g.SetField(fields.suitable, a->suitable ? 1 : 0);
+      g.SetField(fields.reasons, join(a->reasons).c_str());
     }
     if (OGRGeometry* geom = f->GetGeometryRef()) {
       std::unique_ptr<OGRGeometry> copy(geom->clone());
@@ -124,9 +141,9 @@ ExportSummary write_geojson(const ExportOptions& options, const std::string& pat
   CSLDestroy(layer_options);
   if (!layer) throw std::runtime_error("cannot write " + options.output_path);
   const bool judged = options.layer == "segments";
-  define_fields(*layer, *in->GetLayerDefn(), judged);
+  const JudgementFields fields = define_fields(*layer, *in->GetLayerDefn(), judged);
   ExportSummary summary;
-  summary.features = copy_features(*in, *layer, *to_wgs84, judged ? &*map : nullptr);
+  summary.features = copy_features(*in, *layer, *to_wgs84, judged ? &*map : nullptr, fields);
   out.reset();  // flushes and closes the file
   return summary;
 }
