@@ -71,10 +71,43 @@ def tearDownModule():
     tmp.cleanup()
 
 
-def cli_json(*args, stdin=""):
+def utm33n_to_lat_lon(easting_m, northing_m):
+    """WGS84 latitude, longitude (degrees) of a UTM 33N point, by GDAL (an independent tool)."""
+    from osgeo import osr
+    utm, wgs84 = osr.SpatialReference(), osr.SpatialReference()
+    utm.ImportFromEPSG(32633)
+    wgs84.ImportFromEPSG(4326)  # GDAL 3: EPSG axis order, latitude first
+    lat, lon, _ = osr.CoordinateTransformation(utm, wgs84).TransformPoint(easting_m, northing_m)
+    return lat, lon
+
+
+def without_lat_lon(value, testcase=None):
+    """The CLI's JSON without its *_lat_lon_deg fields, which the Python objects do not carry
+    (they give UTM positions and the map's zone). With a testcase, each one with a *_utm_m
+    partner is first checked against GDAL's projection of it (the answers here are in UTM 33N,
+    printed to 7 decimals of a degree)."""
+    if isinstance(value, list):
+        return [without_lat_lon(v, testcase) for v in value]
+    if not isinstance(value, dict):
+        return value
+    out = {}
+    for key, v in value.items():
+        if key.endswith("_lat_lon_deg"):
+            partner = value.get(key[:-len("_lat_lon_deg")] + "_utm_m")
+            if testcase is not None and partner is not None:
+                lat, lon = utm33n_to_lat_lon(*partner)
+                testcase.assertAlmostEqual(v[0], lat, delta=6e-8, msg=key)
+                testcase.assertAlmostEqual(v[1], lon, delta=6e-8, msg=key)
+            continue
+        out[key] = without_lat_lon(v, testcase)
+    return out
+
+
+def cli_json(*args, stdin="", lat_lon_checked_by=None):
+    """The CLI's --json answer without its *_lat_lon_deg fields (see without_lat_lon)."""
     out = subprocess.run([CLI, *[str(a) for a in args], "--json"], input=stdin,
                          capture_output=True, text=True, check=True)
-    return json.loads(out.stdout)
+    return without_lat_lon(json.loads(out.stdout), lat_lon_checked_by)
 
 
 def cli_error(*args):
@@ -126,7 +159,8 @@ class AgreesWithCli(unittest.TestCase):
     def test_nearest_and_heading(self):
         for lat, lon in PRAGUE_POSITIONS:
             with self.subTest(lat=lat, lon=lon):
-                expected = cli_json("nearest", "--db", prague_db, *lat_lon_args(lat, lon))
+                expected = cli_json("nearest", "--db", prague_db, *lat_lon_args(lat, lon),
+                                    lat_lon_checked_by=self)
                 self.assertEqual(road_fields(self.map.nearest(lat=lat, lon=lon)), expected)
                 expected = cli_json("heading", "--db", prague_db, *lat_lon_args(lat, lon))
                 h = self.map.road_heading(lat=lat, lon=lon)
@@ -152,7 +186,8 @@ class AgreesWithCli(unittest.TestCase):
         suitable = 0
         for lat, lon in PRAGUE_POSITIONS:
             with self.subTest(lat=lat, lon=lon):
-                expected = cli_json("assess", "--db", prague_db, *lat_lon_args(lat, lon))
+                expected = cli_json("assess", "--db", prague_db, *lat_lon_args(lat, lon),
+                                    lat_lon_checked_by=self)
                 a = self.map.assess(lat=lat, lon=lon)
                 self.assert_assessment(a, expected)
                 suitable += a.suitable
@@ -209,7 +244,7 @@ class AgreesWithCli(unittest.TestCase):
         for lat, lon in PRAGUE_POSITIONS:
             with self.subTest(lat=lat, lon=lon):
                 expected = cli_json("better", "--db", prague_db, *lat_lon_args(lat, lon),
-                                    "--radius", "150", "--max", "4")
+                                    "--radius", "150", "--max", "4", lat_lon_checked_by=self)
                 places = self.map.better_place(lat=lat, lon=lon, search_radius_m=150,
                                                max_candidates=4)
                 got = {"candidates": [
@@ -654,13 +689,14 @@ class MapSetOverTwoMaps(unittest.TestCase):
             with self.subTest(lat=lat, lon=lon):
                 answer, source = self.set.assess(lat=lat, lon=lon)
                 alone = self.prague.assess(lat=lat, lon=lon)
-                self.assertEqual((source.index, source.path, source.map_id), (0, prague_db, None))
+                self.assertEqual((source.index, source.path, source.map_id),
+                                 (0, prague_db, self.prague.info.map_id))
                 self.assertEqual(answer.segment_id, alone.segment_id)
                 self.assertEqual(answer.distance_m, alone.distance_m)
                 self.assertEqual(answer.reasons, alone.reasons)
                 cli = cli_json("assess", "--db", prague_db, "--db", straight_db,
                                *lat_lon_args(lat, lon))
-                self.assertEqual(cli["map"], {"path": prague_db, "map_id": None})
+                self.assertEqual(cli["map"], {"path": prague_db, "map_id": source.map_id})
                 self.assertEqual(cli["segment_id"], answer.segment_id)
         road, source = self.set.nearest(lat=50.0 + 5.0 / 111229.0, lon=14.4)
         self.assertEqual((source.index, source.path), (1, straight_db))
