@@ -17,4 +17,4 @@ esac
 bash scripts/setup.sh
 cmake --preset "$preset" >/dev/null
 cmake --build --preset "$preset" -j"$(nproc)"
-ctest --preset "$preset" -j"$(nproc)" --timeout 600
+ctest --preset "$preset" -j"$(nproc)" --timeout 600 --output-on-failure

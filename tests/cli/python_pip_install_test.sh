@@ -55,7 +55,9 @@ fi
 if (cd "$WORK/src" && /usr/bin/python3 -m build --wheel --no-isolation --outdir "$WORK/dist" \
       >"$WORK/build.log" 2>&1); then
   wheel=$(ls "$WORK"/dist/roadcross-*.whl)
-  python3 -m zipfile -l "$wheel" | grep -q "roadcross-stubs/py.typed" &&
+  # The listing whole, then searched: grep -q would close the pipe early (BrokenPipeError).
+  listing=$(python3 -m zipfile -l "$wheel")
+  grep -q "roadcross-stubs/py.typed" <<<"$listing" &&
     pass "python -m build: $(basename "$wheel") with the stubs" || fail "the wheel lacks the stubs"
 else
   fail "python -m build: $(tail -20 "$WORK/build.log")"
