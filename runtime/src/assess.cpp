@@ -325,7 +325,7 @@ Status judge(sqlite::Statement& row, Assessment& a, bool limited_visibility_unsu
   a.sidewalk_right = optional_flag(row, C::sidewalk_right);
   std::string problem = number_problem(row);
   // Judged before the reset (the reasons' text lives in the row); used only when the row's
-  // numbers are in range (number_problem), so score + context_score fits an int.
+  // numbers are in range (number_problem).
   const schema::Verdict verdict =
       schema::judge_segment({a.score, a.context_score, row.column_text_view(at[C::reasons]),
                              a.tunnel, no_crossing, force_suitable},

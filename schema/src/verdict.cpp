@@ -15,7 +15,10 @@ bool has_reason(std::string_view reasons, std::string_view code) noexcept {
 
 Verdict judge_segment(const VerdictTerms& terms, const VerdictThresholds& thresholds) {
   Verdict v;
-  const int total = terms.score.value_or(0) + terms.context_score.value_or(0);
+  // In double (exact for any two ints): a damaged map's context_score may be any int, and the
+  // runtime reports it as corrupt only after judging.
+  const double total = static_cast<double>(terms.score.value_or(0)) +
+                       static_cast<double>(terms.context_score.value_or(0));
   v.score_reaches_threshold = terms.score.has_value() && total >= thresholds.threshold;
   // Never suitable, whatever an operator says: the class, a tunnel, a no_crossing override.
   v.not_crossable_class = has_reason(terms.reasons, "NOT_CROSSABLE_CLASS");
