@@ -101,7 +101,6 @@ struct Settings {
   double region_probability = 0.95;
 };
 
-/// Reads every parameter (units and ranges: config/roadcross.yaml). False after a ROS_FATAL.
 /// "[a, b]" as the paths a and b (blanks around each trimmed); any other text as one path.
 std::vector<std::string> split_path_list(const std::string& text) {
   if (text.size() < 2 || text.front() != '[' || text.back() != ']') return {text};
@@ -115,6 +114,7 @@ std::vector<std::string> split_path_list(const std::string& text) {
   return paths;
 }
 
+/// Reads every parameter (units and ranges: config/roadcross.yaml). False after a ROS_FATAL.
 bool read_settings(const ros::NodeHandle& nh, Settings& s) {
   // ~db: one path (a map or a directory of maps), or a list of them (a set of maps).
   // On the command line (_db:=[a.gpkg, b.gpkg]) roscpp keeps a list as the string itself.
