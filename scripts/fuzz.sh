@@ -88,7 +88,7 @@ for target in "${targets[@]}"; do
     echo "fuzz: $target: FAILED (input kept in $artifacts/)" >&2
     status=1
   fi
-  runs=$(sed -n 's/^stat::number_executed_units: *//p' "$log" | tail -1)
+  runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
   cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | cut -d' ' -f2)
   printf '%-15s %10s inputs  %6s coverage points  %s s\n' "$target" "${runs:-?}" "${cov:-?}" \
     "$seconds" | tee -a "$summary"
