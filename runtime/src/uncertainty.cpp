@@ -186,14 +186,14 @@ std::string detail::region_verdict_sql(int schema_version) {
   using C = schema::SegmentColumn;
   // What judge reads only to report, never to decide suitable (nor to tell the road): a
   // column missing from this list is read, so a column a verdict comes to need is never lost.
-  // length_m and rank stay read: the corrupt-map guard requires them (length_m always, rank
-  // with score).
-  static constexpr C kDescriptive[] = {C::highway,       C::class_cost,      C::junction_distance_m,
-                                       C::radius_m,      C::curvature_level, C::curvature_cost,
-                                       C::landform,      C::elevation_cost,  C::maxspeed_kmh,
-                                       C::lanes,         C::width_m,         C::crossing_distance_m,
-                                       C::override_note, C::sight_forward_m, C::sight_backward_m,
-                                       C::sight_min_m,   C::required_sight_m};
+  // length_m, rank and highway stay read: the corrupt-map guard requires them (length_m
+  // always, rank with score, highway against NOT_CROSSABLE_CLASS).
+  static constexpr C kDescriptive[] = {C::class_cost,      C::junction_distance_m, C::radius_m,
+                                       C::curvature_level, C::curvature_cost,      C::landform,
+                                       C::elevation_cost,  C::maxspeed_kmh,        C::lanes,
+                                       C::width_m,         C::crossing_distance_m, C::override_note,
+                                       C::sight_forward_m, C::sight_backward_m,    C::sight_min_m,
+                                       C::required_sight_m};
   std::vector<std::string> select;
   for (std::size_t e = 0; e < schema::kSegmentColumnCount; ++e) {
     const auto column = static_cast<C>(e);
@@ -387,7 +387,8 @@ Status Map::Impl::region_geometry(const PositionUncertainty& uncertainty, const 
           best_sq = d;
         }
       }
-      if (previous_rank < candidates && ring_distance_sq_m2[previous_rank * kAngles + step] == best_sq) {
+      if (previous_rank < candidates &&
+          ring_distance_sq_m2[previous_rank * kAngles + step] == best_sq) {
         best_rank = previous_rank;
       }
       const std::size_t best = by_box_distance[best_rank].index;
