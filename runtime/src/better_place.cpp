@@ -155,8 +155,11 @@ Result<BetterPlaces> Map::better_place(const Position& position,
   }
   try {
     const schema::PlanePoint robot{here->road.query.easting_m, here->road.query.northing_m};
+    // The walk starts where the robot reaches its road: every segment it can reach within
+    // search_radius_m lies that close to this point, whatever the robot's distance from it.
+    const schema::PlanePoint on_road{here->road.closest.easting_m, here->road.closest.northing_m};
     std::vector<LocalSegment> local = load_neighbourhood(impl_->db, impl_->info.schema_version,
-                                                         robot, options.search_radius_m + 20.0);
+                                                         on_road, options.search_radius_m + 20.0);
     std::unordered_map<std::int64_t, std::vector<std::size_t>> at_node;
     std::size_t start = local.size();
     for (std::size_t i = 0; i < local.size(); ++i) {

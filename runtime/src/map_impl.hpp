@@ -108,7 +108,9 @@ Status check_assess_options(const AssessOptions& options);
 /// An edge of a region segment's polyline: its start and its vector, grid metres, and its
 /// squared length, m^2 (computed once per query, not once per sample).
 struct RegionEdge {
-  double start_x = 0.0, start_y = 0.0, dx = 0.0, dy = 0.0, length_sq_m2 = 0.0;
+  double start_x = 0.0, start_y = 0.0, dx = 0.0, dy = 0.0;
+  /// 1 / (dx^2 + dy^2), 1/m^2; 0 for an edge of zero length (its start is its nearest point).
+  double inverse_length_sq_per_m2 = 0.0;
 };
 
 /// One segment near an uncertain position, with its geometry and bounding box (grid metres).
@@ -175,6 +177,10 @@ struct Map::Impl {
   schema::PlanePoint located_at;
   double located_half_m = 0.0;
   std::vector<detail::BoxCandidate> by_box_distance;
+  // One ring of the region's samples against its candidate segments: the squared distance
+  // (m^2) and nearest edge of each, a row of samples per candidate in by_box_distance order.
+  std::vector<double> ring_distance_sq_m2;
+  std::vector<std::uint32_t> ring_nearest_edge;
 
   /// The `assessment` row of one segment with its descriptive columns (those no verdict reads)
   /// selected as NULL: what judge_region feeds the same judge for the region's segments.

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <iterator>
 #include <limits>
 #include <stdexcept>
@@ -134,30 +135,43 @@ void set_edges(detail::RegionSegment& s) {
   for (std::size_t i = 0; i + 1 < s.points.size(); ++i) {
     const schema::PlanePoint a = s.points[i], b = s.points[i + 1];
     const double dx = b.x - a.x, dy = b.y - a.y;
-    s.edges[i] = {a.x, a.y, dx, dy, dx * dx + dy * dy};
+    const double length_sq_m2 = dx * dx + dy * dy;
+    s.edges[i] = {a.x, a.y, dx, dy, length_sq_m2 > 0.0 ? 1.0 / length_sq_m2 : 0.0};
   }
 }
 
-/// Squared distance from `p` to the polyline of `edges`, m^2, and the edge it is nearest to
-/// (squares, not hypot: this runs for every sample and candidate).
-inline double polyline_distance_sq_m2(const std::vector<detail::RegionEdge>& edges,
-                                      const schema::PlanePoint& p, std::size_t& edge) {
-  double best = std::numeric_limits<double>::infinity();
+/// One ring's sample places in the grid, metres (arrays, so that the loops over them vectorise).
+struct RingPlaces {
+  std::array<double, kAngles> x{}, y{};
+};
+
+/// Squared distance (m^2) from each of the ring's places to the polyline of `edges`, and the
+/// edge it is nearest to (the first of equals). Squares, not hypot, and a product with the
+/// edge's inverse squared length, not a division: this runs for every sample and candidate.
+void ring_distances_sq_m2(const std::vector<detail::RegionEdge>& edges, const RingPlaces& ring,
+                          double* distance_sq_m2, std::uint32_t* nearest_edge) {
+  std::array<double, kAngles> edge_sq{};
   for (std::size_t i = 0; i < edges.size(); ++i) {
-    const detail::RegionEdge& e = edges[i];
-    double t = 0.0;
-    if (e.length_sq_m2 > 0.0) {
-      t = std::clamp(((p.x - e.start_x) * e.dx + (p.y - e.start_y) * e.dy) / e.length_sq_m2, 0.0,
-                     1.0);
+    const detail::RegionEdge e = edges[i];
+    for (int j = 0; j < kAngles; ++j) {
+      const double along = ((ring.x[j] - e.start_x) * e.dx + (ring.y[j] - e.start_y) * e.dy) *
+                           e.inverse_length_sq_per_m2;
+      const double t = std::min(std::max(along, 0.0), 1.0);  // min/max: vector instructions
+      const double ex = e.start_x + t * e.dx - ring.x[j], ey = e.start_y + t * e.dy - ring.y[j];
+      edge_sq[j] = ex * ex + ey * ey;
     }
-    const double ex = e.start_x + t * e.dx - p.x, ey = e.start_y + t * e.dy - p.y;
-    const double d = ex * ex + ey * ey;
-    if (d < best) {
-      best = d;
-      edge = i;
+    if (i == 0) {
+      std::copy(edge_sq.begin(), edge_sq.end(), distance_sq_m2);
+      std::fill(nearest_edge, nearest_edge + kAngles, 0u);
+      continue;
+    }
+    for (int j = 0; j < kAngles; ++j) {
+      if (edge_sq[j] < distance_sq_m2[j]) {
+        distance_sq_m2[j] = edge_sq[j];
+        nearest_edge[j] = static_cast<std::uint32_t>(i);
+      }
     }
   }
-  return best;
 }
 
 /// The smaller angle between two road directions taken as axes, radians, [0, pi/2].
@@ -172,14 +186,14 @@ std::string detail::region_verdict_sql(int schema_version) {
   using C = schema::SegmentColumn;
   // What judge reads only to report, never to decide suitable (nor to tell the road): a
   // column missing from this list is read, so a column a verdict comes to need is never lost.
-  // length_m and rank stay read: the corrupt-map guard requires them (length_m always, rank
-  // with score).
-  static constexpr C kDescriptive[] = {C::highway,       C::class_cost,      C::junction_distance_m,
-                                       C::radius_m,      C::curvature_level, C::curvature_cost,
-                                       C::landform,      C::elevation_cost,  C::maxspeed_kmh,
-                                       C::lanes,         C::width_m,         C::crossing_distance_m,
-                                       C::override_note, C::sight_forward_m, C::sight_backward_m,
-                                       C::sight_min_m,   C::required_sight_m};
+  // length_m, rank and highway stay read: the corrupt-map guard requires them (length_m
+  // always, rank with score, highway against NOT_CROSSABLE_CLASS).
+  static constexpr C kDescriptive[] = {C::class_cost,      C::junction_distance_m, C::radius_m,
+                                       C::curvature_level, C::curvature_cost,      C::landform,
+                                       C::elevation_cost,  C::maxspeed_kmh,        C::lanes,
+                                       C::width_m,         C::crossing_distance_m, C::override_note,
+                                       C::sight_forward_m, C::sight_backward_m,    C::sight_min_m,
+                                       C::required_sight_m};
   std::vector<std::string> select;
   for (std::size_t e = 0; e < schema::kSegmentColumnCount; ++e) {
     const auto column = static_cast<C>(e);
@@ -330,40 +344,62 @@ Status Map::Impl::region_geometry(const PositionUncertainty& uncertainty, const 
   std::size_t previous = out.fix_index;
   out.heading_spread_rad = 0.0;
   out.sample_count = 0;
+  RingPlaces places;
   for (int ring = 0; ring < kRings; ++ring) {
     // The ring's middle in probability: P(r <= radius) = p (ring + 1/2) / kRings.
     const double radius = std::sqrt(-2.0 * std::log1p(-p * (ring + 0.5) / kRings));
-    // No sample of the ring is farther from the fix than this (the ellipse's semi-major axis
-    // scaled to the ring, with a margin for rounding): the stopping bound, one root per ring.
-    const double ring_reach_m = out.semi_major_m * radius / k * (1.0 + 1e-9);
     for (int step = 0; step < kAngles; ++step) {
       const int half_steps = 2 * step + (ring % 2);
       const double z1 = radius * unit.cos_values[half_steps];
       const double z2 = radius * unit.sin_values[half_steps];
-      const schema::PlanePoint place{fix.x + cov.l11 * z1, fix.y + cov.l21 * z1 + cov.l22 * z2};
-      // Nearest segment: start from the previous sample's (neighbours usually share it), go
-      // through the others by their boxes' distance from the fix, and stop where even that
-      // less the ring's reach is farther than the best so far.
-      std::size_t best = previous;
-      std::size_t best_edge = 0;
-      double best_sq = polyline_distance_sq_m2(region_segments[best].edges, place, best_edge);
-      for (const detail::BoxCandidate& box : by_box_distance) {
-        const double bound_m = box.from_fix_m - ring_reach_m;
-        if (bound_m > 0.0 && bound_m * bound_m >= best_sq) break;
-        const std::size_t i = box.index;
-        if (i == previous || box_distance_sq_m2(box, place) >= best_sq) continue;
-        std::size_t edge = 0;
-        const double d = polyline_distance_sq_m2(region_segments[i].edges, place, edge);
+      places.x[step] = fix.x + cov.l11 * z1;
+      places.y[step] = fix.y + cov.l21 * z1 + cov.l22 * z2;
+    }
+    // No place of the ring is farther from the fix than ring_reach_m (the ellipse's semi-major
+    // axis scaled to the ring, with a margin for rounding), and the fix's segment is within
+    // road.distance_m of the fix: a segment whose box is farther than both from the fix is
+    // nearer to no place of the ring than the fix's segment. by_box_distance is sorted by that
+    // distance, so the candidates are a prefix of it.
+    const double ring_reach_m = out.semi_major_m * radius / k * (1.0 + 1e-9);
+    const double candidate_within_m = 2.0 * ring_reach_m + road.distance_m + 1e-6;
+    std::size_t candidates = 0;
+    while (candidates < count && by_box_distance[candidates].from_fix_m <= candidate_within_m) {
+      ++candidates;
+    }
+    ring_distance_sq_m2.resize(candidates * kAngles);
+    ring_nearest_edge.resize(candidates * kAngles);
+    std::size_t previous_rank = candidates;  // previous's place among the candidates, if any
+    for (std::size_t c = 0; c < candidates; ++c) {
+      const std::size_t i = by_box_distance[c].index;
+      if (i == previous) previous_rank = c;
+      ring_distances_sq_m2(region_segments[i].edges, places, &ring_distance_sq_m2[c * kAngles],
+                           &ring_nearest_edge[c * kAngles]);
+    }
+    for (int step = 0; step < kAngles; ++step) {
+      // The nearest segment; of equals the previous place's (neighbours usually share it),
+      // else the first by box distance.
+      std::size_t best_rank = 0;
+      double best_sq = ring_distance_sq_m2[step];
+      for (std::size_t c = 1; c < candidates; ++c) {
+        const double d = ring_distance_sq_m2[c * kAngles + step];
         if (d < best_sq) {
-          best = i;
+          best_rank = c;
           best_sq = d;
-          best_edge = edge;
         }
       }
+      if (previous_rank < candidates &&
+          ring_distance_sq_m2[previous_rank * kAngles + step] == best_sq) {
+        best_rank = previous_rank;
+      }
+      const std::size_t best = by_box_distance[best_rank].index;
+      const std::uint32_t best_edge = ring_nearest_edge[best_rank * kAngles + step];
       detail::RegionSegment& nearest = region_segments[best];
       ++nearest.sample_count;
       ++out.sample_count;
-      previous = best;
+      if (best != previous) {
+        previous = best;
+        previous_rank = best_rank;
+      }
       double& spread = nearest.edge_spread_rad[best_edge];
       if (spread < 0.0) {
         const schema::PlanePoint a = nearest.points[best_edge], b = nearest.points[best_edge + 1];

@@ -248,6 +248,48 @@ TEST_F(StraightStreet, BetterPlacesStaySuitableUnderTheSameUncertainty) {
   for (const auto& c : exact->candidates) EXPECT_FALSE(c.suitable_share.has_value());
 }
 
+TEST_F(StraightStreet, BetterPlacesFromFarOffTheRoadWalkFromTheNearestPoint) {
+  // 150 m north of the street, beyond the 100 m search radius and its 20 m margin: the walk
+  // starts where the robot would reach the road, so the same segments are offered as from
+  // 5 m north of that point (their walking distances are the same; the places stand at the
+  // robot's offset, which differs). It once answered "own segment not indexed", a damaged
+  // map, because the neighbourhood was read around the robot.
+  const auto far = map_->better_place(before_portal(200.0, 150.0));
+  const auto near = map_->better_place(before_portal(200.0, 5.0));
+  ASSERT_TRUE(far.ok()) << far.status.message;
+  ASSERT_TRUE(near.ok()) << near.status.message;
+  ASSERT_FALSE(near->candidates.empty());
+  ASSERT_EQ(far->candidates.size(), near->candidates.size());
+  for (std::size_t i = 0; i < near->candidates.size(); ++i) {
+    EXPECT_EQ(far->candidates[i].segment_id, near->candidates[i].segment_id);
+    EXPECT_NEAR(far->candidates[i].walking_distance_m, near->candidates[i].walking_distance_m,
+                1e-6);
+  }
+}
+
+// A trunk road: every segment carries NOT_CROSSABLE_CLASS, which the map reader checks against
+// the segment's highway class. The region's segments are judged by the same checks, so their
+// class must be read too (it once was selected as NULL there, and every region near a trunk or
+// motorway was reported as a damaged map).
+TEST(TrunkRoad, TheRegionIsNotCrossableNotADamagedMap) {
+  rt::TempDir dir;
+  Map map = build(dir, rt::osm_node(1, 50.0, 14.40) + rt::osm_node(2, 50.0, 14.404) +
+                           rt::osm_way(10, "1 2", "highway=trunk;name=Bypass"));
+  const Position fix = utm_of(map, 50.0, 14.402, 0.0, 2.0);  // mid-way, 2 m north
+  const auto exact = map.assess(fix);
+  ASSERT_TRUE(exact.ok()) << exact.status.message;
+  EXPECT_TRUE(has(*exact, "NOT_CROSSABLE_CLASS"));
+  const auto uncertain = map.assess(fix.with_sigma(3.0));
+  ASSERT_TRUE(uncertain.ok()) << uncertain.status.message;
+  EXPECT_FALSE(uncertain->suitable);
+  // Segments of about 10 m and a region of radius 7.3 m: more than one segment, all of them
+  // on the one way and none suitable.
+  EXPECT_GT(uncertain->region->segment_ids.size(), 1u);
+  EXPECT_TRUE(uncertain->region->same_road);
+  EXPECT_EQ(uncertain->region->suitable_share, 0.0);
+  EXPECT_FALSE(has(*uncertain, "POSITION_UNCERTAIN"));
+}
+
 // A T junction: Main Street east-west along 50.0 N, an unnamed side road north from its
 // middle node 2 (50.0 N, 14.404 E).
 class TJunction : public ::testing::Test {
