@@ -18,6 +18,7 @@
 
 namespace {
 
+#ifdef ROADCROSS_WITH_VIZ
 /// Runs `roadcross-viz COMMAND ARGS...` from this program's directory in place of this
 /// process (so its output and exit status are the command's); returns only on failure.
 int run_viz_command(const std::string& command, const std::vector<std::string>& args) {
@@ -38,6 +39,7 @@ int run_viz_command(const std::string& command, const std::vector<std::string>& 
                               "not_installed");
   return 1;
 }
+#endif
 
 }  // namespace
 
