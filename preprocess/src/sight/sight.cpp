@@ -634,11 +634,18 @@ std::size_t first_in_shadow(const std::vector<FlatBuffers::Shadow>& shadows, std
 /// hidden only between two positions stays unseen, as before), up to the rounding of a line
 /// grazing an obstacle corner. A chunk's hull and its walk through the grid serve both kerbs,
 /// and no line is tested: small chunks cost less than the fans' 12-48 positions, whose lines
-/// were what made a large fan pay.
+/// were what made a large fan pay. But every chunk's hull reaches back to the eyes, so the cells
+/// near them are walked once per chunk: where guess_m (the view of the segment before, moved by
+/// the distance between the two) says the view goes on, the first chunk takes every position up
+/// to kGuessMarginM short of it at once, and the small chunks start from there. The chunks only
+/// share out the work: a shadow is the set of a leg's points whose lines the edge crosses, the
+/// same whichever chunk the leg is in, so the answer does not depend on them (nor on the guess).
 double flat_worse_kerb_m(const Scene& scene, const Path& path, const std::array<Point3, 2>& eyes,
-                         const SightParameters& p, SightWork& work, Fan& fan, Fan& second_fan,
-                         std::vector<sight_detail::CandidateEdge>& candidates, FlatBuffers& b) {
+                         const SightParameters& p, double guess_m, SightWork& work, Fan& fan,
+                         Fan& second_fan, std::vector<sight_detail::CandidateEdge>& candidates,
+                         FlatBuffers& b) {
   constexpr std::size_t kFirstChunk = 4, kMaxChunk = 8;  // positions (docs/performance.md)
+  constexpr double kGuessMarginM = 10.0;
   const double end_m = std::min(p.range_m, path.length_m());
   const auto position_m = [&](std::size_t index) {
     return std::min(double(index) * p.step_m, end_m);
@@ -661,7 +668,12 @@ double flat_worse_kerb_m(const Scene& scene, const Path& path, const std::array<
   };
   std::size_t next = 1;  // the next position's index
   double seen_m = 0.0;   // every position up to here is seen from both kerbs
-  for (std::size_t chunk = kFirstChunk; seen_m < end_m; chunk = std::min(2 * chunk, kMaxChunk)) {
+  // Where the view probably ends (guess_m, from the segment before) the first chunk stops
+  // short of it: one hull instead of the small ones on the way; the small ones follow.
+  const double guessed = std::floor((guess_m - kGuessMarginM) / p.step_m);
+  const bool big_first = guessed > double(kFirstChunk);
+  for (std::size_t chunk = big_first ? std::size_t(guessed) : kFirstChunk;
+       seen_m<end_m; chunk = chunk> kMaxChunk ? kFirstChunk : std::min(2 * chunk, kMaxChunk)) {
     std::size_t n = 1;  // positions in the chunk: up to `chunk`, the last one at end_m at most
     while (n < chunk && position_m(next + n - 1) < end_m) ++n;
     const std::size_t first = next;
@@ -731,6 +743,11 @@ struct SightThread {
   Path ahead, behind;                                    ///< the segment's two directions
   std::array<std::vector<PlanePoint>, 2> kerb_outlines;  ///< KerbSearch's, per kerb
   FlatBuffers flat;
+  /// The segment this thread did last (its index, its position in its piece) and its two
+  /// answers: a guess for the next segment's when it is the next one of the same piece.
+  std::size_t last_index = std::numeric_limits<std::size_t>::max();
+  double last_pos_m = 0.0;
+  std::array<double, 2> last_answer_m{0.0, 0.0};
 };
 
 /// The points whose hull holds every position along `path` up to the range (to 1e-8 m, see
@@ -776,6 +793,15 @@ void sight_of_segment(const Context& c, Segment& s, SightThread& t) {
     const double g = s.bridge ? fallback : c.scene.ground(kerb, fallback);
     eyes[i] = Point3{kerb.x, kerb.y, g + c.p.sensor_height_m, g};
   }
+  // The view of the segment before on the piece ended about its offset further on ahead, and
+  // nearer behind (only a guess: it sets the first chunk, not the answer).
+  const std::size_t index = static_cast<std::size_t>(&s - c.graph.segments.data());
+  std::array<double, 2> guess_m{0.0, 0.0};
+  if (t.last_index + 1 == index && index > 0 &&
+      c.graph.segments[index - 1].piece_index == s.piece_index) {
+    const double moved_m = pos_m - t.last_pos_m;
+    guess_m = {t.last_answer_m[0] - moved_m, t.last_answer_m[1] + moved_m};
+  }
   const auto worse_m = [&](const Path& path, int direction) {
     if (!c.scene.has_terrain() && t.open.worth_trying(direction)) {
       outline_to_range(path, c.p.range_m, t.outline);
@@ -787,8 +813,8 @@ void sight_of_segment(const Context& c, Segment& s, SightThread& t) {
       if (open) return c.p.range_m;
     }
     if (!c.scene.has_terrain()) {
-      const double answer_m =
-          flat_worse_kerb_m(c.scene, path, eyes, c.p, work, fan, t.second_fan, candidates, t.flat);
+      const double answer_m = flat_worse_kerb_m(c.scene, path, eyes, c.p, guess_m[direction], work,
+                                                fan, t.second_fan, candidates, t.flat);
       t.open.answered(direction, answer_m >= c.p.range_m);
       return answer_m;
     }
@@ -801,6 +827,7 @@ void sight_of_segment(const Context& c, Segment& s, SightThread& t) {
     return answer_m;
   };
   const double forward_m = worse_m(ahead, 0), backward_m = worse_m(behind, 1);
+  t.last_index = index, t.last_pos_m = pos_m, t.last_answer_m = {forward_m, backward_m};
   s.sight_forward_m = forward_m;
   s.sight_backward_m = backward_m;
   s.sight_min_m = std::min(forward_m, backward_m);
