@@ -113,6 +113,15 @@ class Fan {
     set_axes();
   }
 
+  /// reset_sharing_hull without the separating axes: for a fan asked only through
+  /// other.edge_clear_for_both(*this, ...) (its own edge_clear then answers false).
+  void reset_eye_sharing_hull(const Fan& other, const PlanePoint& eye,
+                              const std::vector<PlanePoint>& outline) {
+    set_eye_and_reach(eye, outline);
+    hull_ = other.hull_;
+    axes_ready_ = false;
+  }
+
   /// The hull of the eye and the outline (for EdgeGrid::any_in_polygon).
   const std::vector<PlanePoint>& hull() const { return hull_; }
   const PlanePoint& eye() const { return eye_; }
@@ -128,6 +137,7 @@ class Fan {
   }
 
   void set_axes() {
+    axes_ready_ = true;
     const PlanePoint eye = eye_;
     rel_hull_.clear();
     for (const PlanePoint& v : hull_) rel_hull_.push_back({v.x - eye.x, v.y - eye.y});
@@ -160,12 +170,28 @@ class Fan {
  public:
   /// True only when no line of the fan can be crossed by the edge a->b (see the class).
   bool edge_clear(const PlanePoint& a, const PlanePoint& b) const {
+    if (!axes_ready_ || !eye_clear(a, b)) return false;
+    return separated({a.x - eye_.x, a.y - eye_.y}, {b.x - eye_.x, b.y - eye_.y});
+  }
+
+  /// edge_clear(a, b) && with.edge_clear(a, b), for a fan `with` on the same hull
+  /// (reset_sharing_hull or reset_eye_sharing_hull), with the separating axes tested once: the
+  /// gap they find is between the hull and the edge, whichever eye the arithmetic is relative
+  /// to (a projection's rounding, < 1e-10 m, is inside kGapM's 1e-6 m), and the rest of the
+  /// proof is the eye's own (its reach, and the eye off the edge's line: eye_clear).
+  bool edge_clear_for_both(const Fan& with, const PlanePoint& a, const PlanePoint& b) const {
+    return edge_clear(a, b) && with.eye_clear(a, b);
+  }
+
+ private:
+  /// The part of edge_clear that depends on the eye: both ends and the targets within reach of
+  /// the proof's bounds, and |q x s| above its bound (the eye off the edge's line).
+  bool eye_clear(const PlanePoint& a, const PlanePoint& b) const {
     constexpr double kU = std::numeric_limits<double>::epsilon() / 2;
     constexpr double kFarM = 1e5;
     const PlanePoint ra{a.x - eye_.x, a.y - eye_.y}, rb{b.x - eye_.x, b.y - eye_.y};
     const double qa = std::abs(ra.x) + std::abs(ra.y), qb = std::abs(rb.x) + std::abs(rb.y);
     if (!(qa < kFarM && qb < kFarM && reach_m_ < kFarM)) return false;
-    if (!separated(ra, rb)) return false;
     const double sx = b.x - a.x, sy = b.y - a.y;
     const double s1 = std::abs(sx) + std::abs(sy);
     const double m = reach_m_ + s1 + 2 * qa;
@@ -173,7 +199,6 @@ class Fan {
     return std::abs(cross) > 8 * kU * s1 * m * (reach_m_ / kMarginM + 2);
   }
 
- private:
   /// Projections of points within 1e5 m of the eye are off by < 1e-10 m, the targets may be
   /// kOutlineSlackM outside: 1e-6 m covers both.
   static constexpr double kGapM = kMarginM + 1e-6;
@@ -248,6 +273,7 @@ class Fan {
   std::vector<PlanePoint> points_;  ///< the targets and the eye (sorted by the hull)
   std::vector<PlanePoint> hull_, rel_hull_;
   mutable std::vector<Axis> axes_;  ///< their bounds filled in by separated() as needed
+  bool axes_ready_ = false;         ///< false after reset_eye_sharing_hull
 };
 
 /// An edge that may block a line of a fan: its id and its ends (read once per fan, not per
@@ -306,7 +332,7 @@ bool open_to_both(const EdgeGrid& grid, Fan& from_left, Fan& from_right, const P
   outline.push_back(right);
   from_left.reset(left, outline);
   outline.back() = left;
-  from_right.reset_sharing_hull(from_left, right, outline);
+  from_right.reset_eye_sharing_hull(from_left, right, outline);
   std::array<std::uint32_t, 64> judged;  // as fan_candidates: most edges judged once
   judged.fill(std::numeric_limits<std::uint32_t>::max());
   return !grid.any_in_polygon(from_left.hull(), Fan::kMarginM, [&](std::uint32_t i) {
@@ -314,7 +340,7 @@ bool open_to_both(const EdgeGrid& grid, Fan& from_left, Fan& from_right, const P
     if (slot == i) return false;
     slot = i;
     const auto [a, b] = ends(i);
-    return !from_left.edge_clear(a, b) || !from_right.edge_clear(a, b);
+    return !from_left.edge_clear_for_both(from_right, a, b);
   });
 }
 
