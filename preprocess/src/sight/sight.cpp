@@ -671,7 +671,7 @@ double flat_worse_kerb_m(const Scene& scene, const Path& path, const std::array<
                          const SightParameters& p, double guess_m, SightWork& work, Fan& fan,
                          Fan& second_fan, std::vector<sight_detail::CandidateEdge>& candidates,
                          FlatBuffers& b) {
-  constexpr std::size_t kFirstChunk = 4, kMaxChunk = 8;  // positions (docs/performance.md)
+  static constexpr std::size_t kFirstChunk = 4, kMaxChunk = 8;  // positions (docs/performance.md)
   constexpr double kGuessMarginM = 10.0;
   const double end_m = std::min(p.range_m, path.length_m());
   const auto position_m = [&](std::size_t index) {
@@ -699,8 +699,11 @@ double flat_worse_kerb_m(const Scene& scene, const Path& path, const std::array<
   // short of it: one hull instead of the small ones on the way; the small ones follow.
   const double guessed = std::floor((guess_m - kGuessMarginM) / p.step_m);
   const bool big_first = guessed > double(kFirstChunk);
-  for (std::size_t chunk = big_first ? std::size_t(guessed) : kFirstChunk;
-       seen_m<end_m; chunk = chunk> kMaxChunk ? kFirstChunk : std::min(2 * chunk, kMaxChunk)) {
+  const auto next_size = [](std::size_t chunk) {
+    return chunk > kMaxChunk ? kFirstChunk : std::min(2 * chunk, kMaxChunk);
+  };
+  for (std::size_t chunk = big_first ? std::size_t(guessed) : kFirstChunk; seen_m < end_m;
+       chunk = next_size(chunk)) {
     std::size_t n = 1;  // positions in the chunk: up to `chunk`, the last one at end_m at most
     while (n < chunk && position_m(next + n - 1) < end_m) ++n;
     const std::size_t first = next;
