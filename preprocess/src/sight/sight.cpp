@@ -285,37 +285,42 @@ class Scene {
     sight_detail::fan_candidates(grid_, fan, ends(), out);
   }
 
-  /// True only when no obstacle edge can block a line from either kerb to a point in the hull
-  /// of the kerbs and `outline` (sight_detail::open_to_both; `outline` gets a kerb appended).
-  /// Without a terrain such a direction needs no search: every position of both kerbs is seen.
-  bool open_to_both(Fan& from_left, Fan& from_right, const Point3& left, const Point3& right,
-                    std::vector<PlanePoint>& outline) const {
-    return sight_detail::open_to_both(grid_, from_left, from_right, {left.x, left.y},
-                                      {right.x, right.y}, outline, ends());
+  /// On flat ground, true only when no obstacle edge can cast a shadow (leg_shadow) from either
+  /// kerb on a point in the hull of the kerbs and `outline`: none comes within Fan::kMarginM of
+  /// that hull (flat_candidates). Such a direction needs no search: every position of both kerbs
+  /// is seen. `outline` is left as it was.
+  bool open_on_flat_ground(Fan& fan, const Point3& left, const Point3& right,
+                           std::vector<PlanePoint>& outline) const {
+    return !flat_candidates(fan, left, right, outline, nullptr);
   }
 
-  /// The obstacle edges that may block a line from either eye, `left` or `right`, to a point in
-  /// the hull of both eyes and `outline` (open_to_both's hull and test, every such edge kept),
-  /// into `out`. `outline` is left as it was.
-  void candidates_for_both(Fan& from_left, Fan& from_right, const Point3& left, const Point3& right,
-                           std::vector<PlanePoint>& outline,
-                           std::vector<sight_detail::CandidateEdge>& out) const {
-    out.clear();
+  /// The obstacle edges that may cast a shadow from either eye, `left` or `right`, on a point in
+  /// the hull of both eyes and `outline` on flat ground, into `out`; `outline` is left as it
+  /// was. (True when there is one; with out = nullptr it stops there.)
+  ///
+  /// The edges EdgeGrid::any_in_polygon offers for the hull that Fan::edge_apart does not set
+  /// apart: every other edge is at least 1 mm from the hull, so from every line between two of
+  /// its points, and leg_shadow's side and fraction tests (linear in the edge's points, rounded
+  /// to ~1e-11 of the values they compare, a millimetre's worth here) find no part of it in
+  /// a leg's wedge. No crossing_parameter is computed on flat ground, so the eyes' own tests of
+  /// Fan::edge_clear (for its rounding) are not needed.
+  bool flat_candidates(Fan& fan, const Point3& left, const Point3& right,
+                       std::vector<PlanePoint>& outline,
+                       std::vector<sight_detail::CandidateEdge>* out) const {
+    if (out) out->clear();
     outline.push_back({right.x, right.y});
-    from_left.reset({left.x, left.y}, outline);
-    outline.back() = {left.x, left.y};
-    from_right.reset_eye_sharing_hull(from_left, {right.x, right.y}, outline);
+    fan.reset({left.x, left.y}, outline);
     outline.pop_back();
     std::array<std::uint32_t, 64> judged;  // most edges judged once, as in fan_candidates
     judged.fill(std::numeric_limits<std::uint32_t>::max());
-    grid_.any_in_polygon(from_left.hull(), Fan::kMarginM, [&](std::uint32_t i) {
+    return grid_.any_in_polygon(fan.hull(), Fan::kMarginM, [&](std::uint32_t i) {
       std::uint32_t& slot = judged[i & 63];
       if (slot == i) return false;
       slot = i;
       const PlanePoint a = edges_.a(i), b = edges_.b(i);
-      if (!from_left.edge_clear_for_both(from_right, a, b)) {
-        out.push_back({a, b, i, {}});
-      }
+      if (fan.edge_apart(a, b)) return false;
+      if (!out) return true;
+      out->push_back({a, b, i, {}});
       return false;
     });
   }
@@ -669,8 +674,7 @@ std::size_t first_in_shadow(const std::vector<FlatBuffers::Shadow>& shadows, std
 /// same whichever chunk the leg is in, so the answer does not depend on them (nor on the guess).
 double flat_worse_kerb_m(const Scene& scene, const Path& path, const std::array<Point3, 2>& eyes,
                          const SightParameters& p, double guess_m, SightWork& work, Fan& fan,
-                         Fan& second_fan, std::vector<sight_detail::CandidateEdge>& candidates,
-                         FlatBuffers& b) {
+                         std::vector<sight_detail::CandidateEdge>& candidates, FlatBuffers& b) {
   static constexpr std::size_t kFirstChunk = 4, kMaxChunk = 8;  // positions (docs/performance.md)
   constexpr double kGuessMarginM = 10.0;
   const double end_m = std::min(p.range_m, path.length_m());
@@ -710,7 +714,7 @@ double flat_worse_kerb_m(const Scene& scene, const Path& path, const std::array<
     std::size_t last = next + n - 1;  // this chunk's positions; the second kerb may stop short
     next += n;
     outline_between(seen_m, position_m(last));
-    scene.candidates_for_both(fan, second_fan, eyes[0], eyes[1], b.outline, candidates);
+    scene.flat_candidates(fan, eyes[0], eyes[1], b.outline, &candidates);
     ++work.fans;
     work.candidates += candidates.size();
     if (candidates.empty()) {
@@ -767,7 +771,7 @@ struct Context {
 /// What a thread keeps from segment to segment (buffers, and when to try a direction open).
 struct SightThread {
   SightWork work;
-  Fan fan, second_fan;
+  Fan fan;
   std::vector<sight_detail::CandidateEdge> candidates;
   std::vector<PlanePoint> outline;
   OpenDirections open;
@@ -836,7 +840,7 @@ void sight_of_segment(const Context& c, Segment& s, SightThread& t) {
   const auto worse_m = [&](const Path& path, int direction) {
     if (!c.scene.has_terrain() && t.open.worth_trying(direction)) {
       outline_to_range(path, c.p.range_m, t.outline);
-      const bool open = c.scene.open_to_both(fan, t.second_fan, eyes[0], eyes[1], t.outline);
+      const bool open = c.scene.open_on_flat_ground(fan, eyes[0], eyes[1], t.outline);
       ++work.open_tried, work.open += open ? 1 : 0;
       t.open.tried(direction, open);
       // Every position of both kerbs is seen: the search's answer (a road that ends before
@@ -845,7 +849,7 @@ void sight_of_segment(const Context& c, Segment& s, SightThread& t) {
     }
     if (!c.scene.has_terrain()) {
       const double answer_m = flat_worse_kerb_m(c.scene, path, eyes, c.p, guess_m[direction], work,
-                                                fan, t.second_fan, candidates, t.flat);
+                                                fan, candidates, t.flat);
       t.open.answered(direction, answer_m >= c.p.range_m);
       return answer_m;
     }

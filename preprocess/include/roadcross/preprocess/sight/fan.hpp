@@ -124,15 +124,6 @@ class Fan {
     set_axes();
   }
 
-  /// reset_sharing_hull without the separating axes: for a fan asked only through
-  /// other.edge_clear_for_both(*this, ...) (its own edge_clear then answers false).
-  void reset_eye_sharing_hull(const Fan& other, const PlanePoint& eye,
-                              const std::vector<PlanePoint>& outline) {
-    set_eye_and_reach(eye, outline);
-    hull_ = other.hull_;
-    axes_ready_ = false;
-  }
-
   /// The hull of the eye and the outline (for EdgeGrid::any_in_polygon).
   const std::vector<PlanePoint>& hull() const { return hull_; }
   const PlanePoint& eye() const { return eye_; }
@@ -151,7 +142,6 @@ class Fan {
   }
 
   void set_axes() {
-    axes_ready_ = true;
     const PlanePoint eye = eye_;
     rel_hull_.clear();
     for (const PlanePoint& v : hull_) rel_hull_.push_back({v.x - eye.x, v.y - eye.y});
@@ -184,29 +174,31 @@ class Fan {
  public:
   /// True only when no line of the fan can be crossed by the edge a->b (see the class).
   bool edge_clear(const PlanePoint& a, const PlanePoint& b) const {
-    if (!axes_ready_) return false;
     const PlanePoint ra{a.x - eye_.x, a.y - eye_.y}, rb{b.x - eye_.x, b.y - eye_.y};
-    return eye_clear(ra, rb) && separated(ra, rb);
+    return eye_clear(ra, rb, {b.x - a.x, b.y - a.y}) && separated(ra, rb);
   }
 
-  /// edge_clear(a, b) && with.edge_clear(a, b), for a fan `with` on the same hull
-  /// (reset_sharing_hull or reset_eye_sharing_hull), with the separating axes tested once: the
-  /// gap they find is between the hull and the edge, whichever eye the arithmetic is relative
-  /// to (a projection's rounding, < 1e-10 m, is inside kGapM's 1e-6 m), and the rest of the
-  /// proof is the eye's own (its reach, and the eye off the edge's line: eye_clear).
-  bool edge_clear_for_both(const Fan& with, const PlanePoint& a, const PlanePoint& b) const {
-    return edge_clear(a, b) && with.eye_clear({a.x - with.eye_.x, a.y - with.eye_.y},
-                                              {b.x - with.eye_.x, b.y - with.eye_.y});
+  /// True only when the edge a->b is at least kMarginM from every point of the hull: the
+  /// separating axes of edge_clear alone (with its bound on the distances), without the eye's
+  /// own test that crossing_parameter's rounding needs. Enough where no crossing_parameter is
+  /// computed (the shadows on flat ground, sight.cpp).
+  bool edge_apart(const PlanePoint& a, const PlanePoint& b) const {
+    if (!near_) return false;
+    const PlanePoint ra{a.x - eye_.x, a.y - eye_.y}, rb{b.x - eye_.x, b.y - eye_.y};
+    if (!(std::abs(ra.x) + std::abs(ra.y) < kFarM && std::abs(rb.x) + std::abs(rb.y) < kFarM)) {
+      return false;
+    }
+    return separated(ra, rb);
   }
 
  private:
   /// The part of edge_clear that depends on the eye (ra, rb: the edge's ends relative to it):
   /// both ends and the targets within reach of the proof's bounds, and |q x s| above its bound
   /// (the eye off the edge's line; cross_bound_ holds its factors of the fan).
-  bool eye_clear(const PlanePoint& ra, const PlanePoint& rb) const {
+  bool eye_clear(const PlanePoint& ra, const PlanePoint& rb, const PlanePoint& s) const {
     const double qa = std::abs(ra.x) + std::abs(ra.y), qb = std::abs(rb.x) + std::abs(rb.y);
     if (!(qa < kFarM && qb < kFarM && near_)) return false;
-    const double sx = rb.x - ra.x, sy = rb.y - ra.y;
+    const double sx = s.x, sy = s.y;
     const double s1 = std::abs(sx) + std::abs(sy);
     const double m = reach_m_ + s1 + 2 * qa;
     const double cross = ra.x * sy - ra.y * sx;  // q x s
@@ -292,7 +284,6 @@ class Fan {
   std::vector<PlanePoint> points_;  ///< the targets and the eye (sorted by the hull)
   std::vector<PlanePoint> hull_, rel_hull_;
   mutable std::vector<Axis> axes_;  ///< their bounds filled in by separated() as needed
-  bool axes_ready_ = false;         ///< false after reset_eye_sharing_hull
 };
 
 /// An edge that may block a line of a fan: its id and its ends (read once per fan, not per
@@ -351,7 +342,7 @@ bool open_to_both(const EdgeGrid& grid, Fan& from_left, Fan& from_right, const P
   outline.push_back(right);
   from_left.reset(left, outline);
   outline.back() = left;
-  from_right.reset_eye_sharing_hull(from_left, right, outline);
+  from_right.reset_sharing_hull(from_left, right, outline);
   std::array<std::uint32_t, 64> judged;  // as fan_candidates: most edges judged once
   judged.fill(std::numeric_limits<std::uint32_t>::max());
   return !grid.any_in_polygon(from_left.hull(), Fan::kMarginM, [&](std::uint32_t i) {
@@ -359,7 +350,7 @@ bool open_to_both(const EdgeGrid& grid, Fan& from_left, Fan& from_right, const P
     if (slot == i) return false;
     slot = i;
     const auto [a, b] = ends(i);
-    return !from_left.edge_clear_for_both(from_right, a, b);
+    return !from_left.edge_clear(a, b) || !from_right.edge_clear(a, b);
   });
 }
 
