@@ -79,15 +79,11 @@ struct Path {
   std::vector<double> at_m;  ///< distance along the path of each point
 
   double length_m() const { return at_m.back(); }
-  /// Appends p unless it is within 1e-9 m of the last point (joints and zero-length legs);
-  /// true when appended.
-  bool add(const PlanePoint& p) { return add(p, distance_m(points.back(), p)); }
-  /// The same, with step = distance_m(points.back(), p) known.
-  bool add(const PlanePoint& p, double step) {
-    if (step < 1e-9) return false;
+  void add(const PlanePoint& p) {
+    const double step = distance_m(points.back(), p);
+    if (step < 1e-9) return;  // joints and zero-length legs
     points.push_back(p);
     at_m.push_back(at_m.back() + step);
-    return true;
   }
 };
 
@@ -183,34 +179,20 @@ const Incidence* continuation(const std::vector<std::array<PlanePoint, 2>>& leav
   return best;
 }
 
-/// Length of each leg of a piece, [k]: from vertex k to k + 1 (distance_m, as cumulative_m).
-std::vector<double> legs_m(const std::vector<PlanePoint>& points) {
-  std::vector<double> out(points.size() > 0 ? points.size() - 1 : 0);
-  for (std::size_t k = 0; k < out.size(); ++k) out[k] = distance_m(points[k], points[k + 1]);
-  return out;
-}
-
 /// Appends the vertices of `piece` after position pos_m in the walking direction, up to the
 /// first at or beyond range_m along the path (no position, outline or heading reads further).
-/// A vertex added right after its neighbour on the piece takes the leg's length from `legs`
-/// (legs_m): the same double as path.add's (hypot ignores the signs of its arguments).
-void walk_piece(const RoadPiece& piece, const std::vector<double>& cumulative,
-                const std::vector<double>& legs, double pos_m, bool towards_end, double range_m,
-                Path& path) {
+void walk_piece(const RoadPiece& piece, const std::vector<double>& cumulative, double pos_m,
+                bool towards_end, double range_m, Path& path) {
   const std::size_t leg = leg_at(cumulative, pos_m);
-  bool after_neighbour = false;  // the path's last point is the previous vertex of the piece
-  const auto add = [&](std::size_t k, std::size_t leg_index) {
-    after_neighbour =
-        after_neighbour ? path.add(piece.points[k], legs[leg_index]) : path.add(piece.points[k]);
-    return path.length_m() >= range_m;
-  };
   if (towards_end) {
     for (std::size_t k = leg + 1; k < piece.points.size(); ++k) {
-      if (add(k, k - 1)) return;
+      path.add(piece.points[k]);
+      if (path.length_m() >= range_m) return;
     }
   } else {
     for (std::size_t k = leg + 1; k-- > 0;) {
-      if (add(k, k)) return;
+      path.add(piece.points[k]);
+      if (path.length_m() >= range_m) return;
     }
   }
 }
@@ -228,7 +210,6 @@ PlanePoint last_heading(const Path& path) {
 /// `path` (its buffers are reused from segment to segment).
 void follow_road(const RoadGraph& graph, const Incidences& incidences,
                  const std::vector<std::vector<double>>& cumulative,
-                 const std::vector<std::vector<double>>& legs,
                  const std::vector<std::array<PlanePoint, 2>>& leaving, std::size_t piece,
                  double pos_m, bool towards_end, double range_m, Path& path) {
   const RoadPiece& first = graph.pieces[piece];
@@ -239,7 +220,7 @@ void follow_road(const RoadGraph& graph, const Incidences& incidences,
   path.points.push_back(lerp(first.points[leg], first.points[leg + 1],
                              (pos_m - c[leg]) / std::max(1e-9, c[leg + 1] - c[leg])));
   path.at_m.push_back(0.0);
-  walk_piece(first, c, legs[piece], pos_m, towards_end, range_m, path);
+  walk_piece(first, c, pos_m, towards_end, range_m, path);
   Incidence arrived{piece, towards_end};
   // A ring of pieces shorter than the range is walked round again; the bound stops a ring of
   // zero-length pieces.
@@ -251,8 +232,8 @@ void follow_road(const RoadGraph& graph, const Incidences& incidences,
     const RoadPiece& p = graph.pieces[next->piece];
     // Entering at its from-node walks it towards its end, and the other way round.
     const bool forward = !next->at_end;
-    walk_piece(p, cumulative[next->piece], legs[next->piece], forward ? 0.0 : p.length_m + 1.0,
-               forward, range_m, path);
+    walk_piece(p, cumulative[next->piece], forward ? 0.0 : p.length_m + 1.0, forward, range_m,
+               path);
     arrived = {next->piece, forward};
   }
 }
@@ -762,7 +743,6 @@ struct Context {
   const RoadGraph& graph;
   const Incidences incidences;
   const std::vector<std::vector<double>> cumulative;
-  const std::vector<std::vector<double>> legs;           ///< legs_m of each piece
   const std::vector<std::array<PlanePoint, 2>> leaving;  ///< leaving_directions
   const Scene& scene;
   const SightParameters& p;
@@ -808,9 +788,9 @@ void sight_of_segment(const Context& c, Segment& s, SightThread& t) {
       std::clamp(c.graph.offset_in_piece_m(s) + 0.5 * c.graph.length_m(s), 0.0, cum.back());
   const Path& ahead = t.ahead;
   const Path& behind = t.behind;
-  follow_road(c.graph, c.incidences, c.cumulative, c.legs, c.leaving, s.piece_index, pos_m, true,
+  follow_road(c.graph, c.incidences, c.cumulative, c.leaving, s.piece_index, pos_m, true,
               c.p.range_m, t.ahead);
-  follow_road(c.graph, c.incidences, c.cumulative, c.legs, c.leaving, s.piece_index, pos_m, false,
+  follow_road(c.graph, c.incidences, c.cumulative, c.leaving, s.piece_index, pos_m, false,
               c.p.range_m, t.behind);
   const std::size_t leg = leg_at(cum, pos_m);
   const PlanePoint& a = piece.points[leg];
@@ -875,20 +855,11 @@ void sight_of_segment(const Context& c, Segment& s, SightThread& t) {
 SightReport compute_sight(RoadGraph& graph, const Grid* terrain, const ObstacleEdges& obstacles,
                           const SightParameters& p) {
   const Scene scene(terrain, obstacles);
-  std::vector<std::vector<double>> cumulative, legs;
+  std::vector<std::vector<double>> cumulative;
   cumulative.reserve(graph.pieces.size());
-  legs.reserve(graph.pieces.size());
-  for (const RoadPiece& piece : graph.pieces) {
-    cumulative.push_back(cumulative_m(piece.points));
-    legs.push_back(legs_m(piece.points));
-  }
-  const Context context{graph,
-                        incidences_of(graph),
-                        std::move(cumulative),
-                        std::move(legs),
-                        leaving_directions(graph),
-                        scene,
-                        p};
+  for (const RoadPiece& piece : graph.pieces) cumulative.push_back(cumulative_m(piece.points));
+  const Context context{
+      graph, incidences_of(graph), std::move(cumulative), leaving_directions(graph), scene, p};
 
   // Dense streets take much longer than open roads: threads take small chunks in turn.
   constexpr std::size_t kChunk = 64;
