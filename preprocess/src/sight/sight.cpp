@@ -368,7 +368,7 @@ struct SightWork {
   std::size_t open = 0;           ///< of them found open (no search)
 };
 
-/// When to try a road direction as open to both kerbs at once (Scene::open_to_both) before
+/// When to try a road direction as open to both kerbs at once (Scene::open_on_flat_ground) before
 /// searching it kerb by kerb. The check costs about two fans and settles a direction whose
 /// whole path, seen from the kerbs, has no obstacle near it (most directions on open
 /// rural roads, fewer in dense towns); where it fails it is wasted. A thread works
@@ -640,7 +640,7 @@ std::size_t first_in_shadow(const std::vector<FlatBuffers::Shadow>& shadows, std
 /// sight's fate read from the shadows the obstacle edges cast on the road instead of testing the
 /// line. The road is taken in chunks of positions (4, then 8 steps); one hull of both eyes and
 /// the chunk's road gives the candidate edges of both kerbs (an edge that may block no line from
-/// either is dropped, as in open_to_both); each candidate casts on each leg of the chunk the
+/// either is dropped: Scene::flat_candidates); each candidate casts on each leg of the chunk the
 /// interval of the leg whose lines it blocks (sight_detail::leg_shadow, closed form). A position
 /// is hidden when it lies in a shadow; the first hidden one is bisected six times against the
 /// shadows, as the search bisects with lines. So the answer is the stepping search's (a vehicle
@@ -652,7 +652,8 @@ std::size_t first_in_shadow(const std::vector<FlatBuffers::Shadow>& shadows, std
 /// the distance between the two) says the view goes on, the first chunk takes every position up
 /// to kGuessMarginM short of it at once, and the small chunks start from there. The chunks only
 /// share out the work: a shadow is the set of a leg's points whose lines the edge crosses, the
-/// same whichever chunk the leg is in, so the answer does not depend on them (nor on the guess).
+/// same whichever chunk the leg is in, so the answer does not depend on them (nor on the guess)
+/// beyond the rounding of a projected point.
 double flat_worse_kerb_m(const Scene& scene, const Path& path, const std::array<Point3, 2>& eyes,
                          const SightParameters& p, double guess_m, SightWork& work, Fan& fan,
                          std::vector<sight_detail::CandidateEdge>& candidates, FlatBuffers& b) {
