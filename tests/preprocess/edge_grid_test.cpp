@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "roadcross/preprocess/sight/fan.hpp"
+#include "roadcross/preprocess/sight/shadow.hpp"
 
 namespace rp = roadcross::preprocess;
 namespace sd = roadcross::preprocess::sight_detail;
@@ -485,6 +486,36 @@ TEST(FanClear, HandMadeEdgesAroundAFan) {
                              at(40.0 + 0.5 * std::sqrt(0.5) - 5, 10 + 0.5 * std::sqrt(0.5) + 5)));
 }
 
+TEST(FanClear, EdgeApartIsTheSeparationAloneAndSuchEdgesCastNoShadow) {
+  // The fan of HandMadeEdgesAroundAFan: the triangle (0,0), (10,10), (40,10). edge_apart asks
+  // only for the 1 mm gap; the flat-ground search reads shadows (leg_shadow on the leg from
+  // (10, 10) to (40, 10)), which an edge set apart never casts.
+  const double x0 = 731232.0, y0 = 4849872.0;
+  const auto at = [&](double x, double y) { return PlanePoint{x0 + x, y0 + y}; };
+  sd::Fan fan;
+  fan.reset(at(0, 0), {at(10, 10), at(20, 10), at(30, 10), at(40, 10)});
+  const sd::BlockingFractions whole{0.0, 1.0};
+  const auto shadow = [&](const PlanePoint& a, const PlanePoint& b) {
+    return sd::leg_shadow(at(0, 0), at(10, 10), at(40, 10), a, b, whole);
+  };
+  EXPECT_TRUE(fan.edge_apart(at(0, 10.002), at(50, 10.002)));  // 2 mm beyond the targets
+  EXPECT_TRUE(shadow(at(0, 10.002), at(50, 10.002)).empty());
+  EXPECT_FALSE(fan.edge_apart(at(0, 10.0005), at(50, 10.0005)));  // 0.5 mm: too near
+  EXPECT_FALSE(fan.edge_apart(at(15, 9), at(16, 9.5)));           // inside the hull
+  // 4.1 m beyond the last target, on the line from the eye through it: edge_clear keeps it
+  // (the crossing test's rounding), edge_apart does not, and it hides nothing on the leg.
+  EXPECT_FALSE(fan.edge_clear(at(44, 11), at(48, 12)));
+  EXPECT_TRUE(fan.edge_apart(at(44, 11), at(48, 12)));
+  EXPECT_TRUE(shadow(at(44, 11), at(48, 12)).empty());
+  // Across the lines at x = 25 from y = 5 to 20: the line to (x, 10) meets x = 25 at
+  // y = 250 / x, inside [5, 20] for x from 25 on, so it hides u = (x - 10) / 30 from 0.5 to 1.
+  EXPECT_FALSE(fan.edge_apart(at(25, 5), at(25, 20)));
+  const sd::LegShadow across = shadow(at(25, 5), at(25, 20));
+  ASSERT_FALSE(across.empty());
+  EXPECT_NEAR(across.from, 0.5, 1e-9);
+  EXPECT_DOUBLE_EQ(across.to, 1.0);
+}
+
 TEST(FanClear, ClearEdgesCrossNoLineOfTheFan) {
   // Random fans (an eye beside a wiggly road, 2-32 consecutive positions) and random edges
   // near them, including edges grazing the lines and edges on the line through the eye and a
@@ -565,6 +596,67 @@ TEST(FanClear, ClearEdgesCrossNoLineOfTheFan) {
   EXPECT_GT(clear, 50000u);  // both answers well represented
   EXPECT_GT(not_clear, 50000u);
   EXPECT_GT(grazing_clear, 5000u);  // edges 1-5 mm from a line were cleared too
+}
+
+TEST(FanClear, EdgesSetApartCastNoShadowOnAnyLeg) {
+  // Random fans (an eye beside a wiggly road of 2-32 positions 5 m apart) and random edges
+  // near them, grazing the lines or on the line through the eye and a target: whenever
+  // edge_apart says apart, leg_shadow finds nothing on any leg between consecutive positions.
+  std::mt19937_64 rng(29);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), unit(0.0, 1.0);
+  std::uniform_int_distribution<int> size(2, 32);
+  const double x0 = 731234.56, y0 = 4849876.54;
+  const sd::BlockingFractions whole{0.0, 1.0};
+  std::size_t apart = 0, near = 0, grazing_apart = 0;
+  for (int k = 0; k < 3000; ++k) {
+    const PlanePoint eye{x0 + 1000 * u(rng), y0 + 1000 * u(rng)};
+    std::vector<PlanePoint> targets;
+    double heading = 3.2 * u(rng), px = eye.x + 4 * u(rng), py = eye.y + 4 * u(rng);
+    const double turn = 0.05 * u(rng) * (k % 3 == 0 ? 0.0 : 1.0), start = 5 + 250 * unit(rng);
+    px += start * std::cos(heading), py += start * std::sin(heading);
+    for (int j = 0, n = size(rng); j < n; ++j) {
+      targets.push_back({px, py});
+      heading += turn;
+      px += 5 * std::cos(heading), py += 5 * std::sin(heading);
+    }
+    sd::Fan fan;
+    fan.reset(eye, targets);
+    for (int e = 0; e < 60; ++e) {
+      const PlanePoint& t =
+          targets[std::uniform_int_distribution<std::size_t>(0, targets.size() - 1)(rng)];
+      const double along = 1.3 * unit(rng);
+      const PlanePoint on{eye.x + along * (t.x - eye.x), eye.y + along * (t.y - eye.y)};
+      const double len = std::hypot(t.x - eye.x, t.y - eye.y);
+      const double nx = -(t.y - eye.y) / len, ny = (t.x - eye.x) / len;
+      PlanePoint a, b;
+      if (e % 3 == 0) {  // anywhere near the fan
+        a = {on.x + 30 * u(rng), on.y + 30 * u(rng)};
+        b = {a.x + 20 * u(rng), a.y + 20 * u(rng)};
+      } else if (e % 3 == 1) {  // an end 0-3 mm beside a line, pointing anywhere
+        const double off = 0.003 * u(rng), dir = 3.2 * u(rng);
+        a = {on.x + off * nx, on.y + off * ny};
+        b = {a.x + 10 * std::cos(dir), a.y + 10 * std::sin(dir)};
+      } else {  // on the line through the eye and a target, beyond either end
+        const double s = unit(rng) < 0.5 ? -0.2 * unit(rng) : 1.0 + 0.2 * unit(rng);
+        const double s2 = s + (s < 0 ? -0.1 : 0.1) * unit(rng);
+        a = {eye.x + s * (t.x - eye.x), eye.y + s * (t.y - eye.y)};
+        b = {eye.x + s2 * (t.x - eye.x), eye.y + s2 * (t.y - eye.y)};
+      }
+      if (!fan.edge_apart(a, b)) {
+        ++near;
+        continue;
+      }
+      ++apart;
+      grazing_apart += e % 3 == 1 ? 1 : 0;
+      for (std::size_t j = 0; j + 1 < targets.size(); ++j) {
+        ASSERT_TRUE(sd::leg_shadow(eye, targets[j], targets[j + 1], a, b, whole).empty())
+            << k << " " << e << " " << j;
+      }
+    }
+  }
+  EXPECT_GT(apart, 40000u);  // both answers well represented
+  EXPECT_GT(near, 40000u);
+  EXPECT_GT(grazing_apart, 5000u);  // edges 1-3 mm from a line were set apart too
 }
 
 TEST(FanClear, GridCellsOfAPolygonHoldEveryCellOfItsLines) {

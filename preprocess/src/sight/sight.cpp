@@ -179,14 +179,21 @@ const Incidence* continuation(const std::vector<std::array<PlanePoint, 2>>& leav
   return best;
 }
 
-/// Appends the vertices of `piece` after position pos_m in the walking direction.
+/// Appends the vertices of `piece` after position pos_m in the walking direction, up to the
+/// first at or beyond range_m along the path (no position, outline or heading reads further).
 void walk_piece(const RoadPiece& piece, const std::vector<double>& cumulative, double pos_m,
-                bool towards_end, Path& path) {
+                bool towards_end, double range_m, Path& path) {
   const std::size_t leg = leg_at(cumulative, pos_m);
   if (towards_end) {
-    for (std::size_t k = leg + 1; k < piece.points.size(); ++k) path.add(piece.points[k]);
+    for (std::size_t k = leg + 1; k < piece.points.size(); ++k) {
+      path.add(piece.points[k]);
+      if (path.length_m() >= range_m) return;
+    }
   } else {
-    for (std::size_t k = leg + 1; k-- > 0;) path.add(piece.points[k]);
+    for (std::size_t k = leg + 1; k-- > 0;) {
+      path.add(piece.points[k]);
+      if (path.length_m() >= range_m) return;
+    }
   }
 }
 
@@ -213,7 +220,7 @@ void follow_road(const RoadGraph& graph, const Incidences& incidences,
   path.points.push_back(lerp(first.points[leg], first.points[leg + 1],
                              (pos_m - c[leg]) / std::max(1e-9, c[leg + 1] - c[leg])));
   path.at_m.push_back(0.0);
-  walk_piece(first, c, pos_m, towards_end, path);
+  walk_piece(first, c, pos_m, towards_end, range_m, path);
   Incidence arrived{piece, towards_end};
   // A ring of pieces shorter than the range is walked round again; the bound stops a ring of
   // zero-length pieces.
@@ -225,7 +232,8 @@ void follow_road(const RoadGraph& graph, const Incidences& incidences,
     const RoadPiece& p = graph.pieces[next->piece];
     // Entering at its from-node walks it towards its end, and the other way round.
     const bool forward = !next->at_end;
-    walk_piece(p, cumulative[next->piece], forward ? 0.0 : p.length_m + 1.0, forward, path);
+    walk_piece(p, cumulative[next->piece], forward ? 0.0 : p.length_m + 1.0, forward, range_m,
+               path);
     arrived = {next->piece, forward};
   }
 }
@@ -258,37 +266,42 @@ class Scene {
     sight_detail::fan_candidates(grid_, fan, ends(), out);
   }
 
-  /// True only when no obstacle edge can block a line from either kerb to a point in the hull
-  /// of the kerbs and `outline` (sight_detail::open_to_both; `outline` gets a kerb appended).
-  /// Without a terrain such a direction needs no search: every position of both kerbs is seen.
-  bool open_to_both(Fan& from_left, Fan& from_right, const Point3& left, const Point3& right,
-                    std::vector<PlanePoint>& outline) const {
-    return sight_detail::open_to_both(grid_, from_left, from_right, {left.x, left.y},
-                                      {right.x, right.y}, outline, ends());
+  /// On flat ground, true only when no obstacle edge can cast a shadow (leg_shadow) from either
+  /// kerb on a point in the hull of the kerbs and `outline`: none comes within Fan::kMarginM of
+  /// that hull (flat_candidates). Such a direction needs no search: every position of both kerbs
+  /// is seen. `outline` is left as it was.
+  bool open_on_flat_ground(Fan& fan, const Point3& left, const Point3& right,
+                           std::vector<PlanePoint>& outline) const {
+    return !flat_candidates(fan, left, right, outline, nullptr);
   }
 
-  /// The obstacle edges that may block a line from either eye, `left` or `right`, to a point in
-  /// the hull of both eyes and `outline` (open_to_both's hull and test, every such edge kept),
-  /// into `out`. `outline` is left as it was.
-  void candidates_for_both(Fan& from_left, Fan& from_right, const Point3& left, const Point3& right,
-                           std::vector<PlanePoint>& outline,
-                           std::vector<sight_detail::CandidateEdge>& out) const {
-    out.clear();
+  /// The obstacle edges that may cast a shadow from either eye, `left` or `right`, on a point in
+  /// the hull of both eyes and `outline` on flat ground, into `out`; `outline` is left as it
+  /// was. (True when there is one; with out = nullptr it stops there.)
+  ///
+  /// The edges EdgeGrid::any_in_polygon offers for the hull that Fan::edge_apart does not set
+  /// apart: every other edge is at least 1 mm from the hull, so from every line between two of
+  /// its points, and leg_shadow's side and fraction tests (linear in the edge's points, rounded
+  /// to ~1e-11 of the values they compare, a millimetre's worth here) find no part of it in
+  /// a leg's wedge. No crossing_parameter is computed on flat ground, so the eyes' own tests of
+  /// Fan::edge_clear (for its rounding) are not needed.
+  bool flat_candidates(Fan& fan, const Point3& left, const Point3& right,
+                       std::vector<PlanePoint>& outline,
+                       std::vector<sight_detail::CandidateEdge>* out) const {
+    if (out) out->clear();
     outline.push_back({right.x, right.y});
-    from_left.reset({left.x, left.y}, outline);
-    outline.back() = {left.x, left.y};
-    from_right.reset_sharing_hull(from_left, {right.x, right.y}, outline);
+    fan.reset({left.x, left.y}, outline);
     outline.pop_back();
     std::array<std::uint32_t, 64> judged;  // most edges judged once, as in fan_candidates
     judged.fill(std::numeric_limits<std::uint32_t>::max());
-    grid_.any_in_polygon(from_left.hull(), Fan::kMarginM, [&](std::uint32_t i) {
+    return grid_.any_in_polygon(fan.hull(), Fan::kMarginM, [&](std::uint32_t i) {
       std::uint32_t& slot = judged[i & 63];
       if (slot == i) return false;
       slot = i;
       const PlanePoint a = edges_.a(i), b = edges_.b(i);
-      if (!from_left.edge_clear(a, b) || !from_right.edge_clear(a, b)) {
-        out.push_back({a, b, i, {}});
-      }
+      if (fan.edge_apart(a, b)) return false;
+      if (!out) return true;
+      out->push_back({a, b, i, {}});
       return false;
     });
   }
@@ -355,7 +368,7 @@ struct SightWork {
   std::size_t open = 0;           ///< of them found open (no search)
 };
 
-/// When to try a road direction as open to both kerbs at once (Scene::open_to_both) before
+/// When to try a road direction as open to both kerbs at once (Scene::open_on_flat_ground) before
 /// searching it kerb by kerb. The check costs about two fans and settles a direction whose
 /// whole path, seen from the kerbs, has no obstacle near it (most directions on open
 /// rural roads, fewer in dense towns); where it fails it is wasted. A thread works
@@ -627,18 +640,25 @@ std::size_t first_in_shadow(const std::vector<FlatBuffers::Shadow>& shadows, std
 /// sight's fate read from the shadows the obstacle edges cast on the road instead of testing the
 /// line. The road is taken in chunks of positions (4, then 8 steps); one hull of both eyes and
 /// the chunk's road gives the candidate edges of both kerbs (an edge that may block no line from
-/// either is dropped, as in open_to_both); each candidate casts on each leg of the chunk the
+/// either is dropped: Scene::flat_candidates); each candidate casts on each leg of the chunk the
 /// interval of the leg whose lines it blocks (sight_detail::leg_shadow, closed form). A position
 /// is hidden when it lies in a shadow; the first hidden one is bisected six times against the
 /// shadows, as the search bisects with lines. So the answer is the stepping search's (a vehicle
 /// hidden only between two positions stays unseen, as before), up to the rounding of a line
 /// grazing an obstacle corner. A chunk's hull and its walk through the grid serve both kerbs,
 /// and no line is tested: small chunks cost less than the fans' 12-48 positions, whose lines
-/// were what made a large fan pay.
+/// were what made a large fan pay. But every chunk's hull reaches back to the eyes, so the cells
+/// near them are walked once per chunk: where guess_m (the view of the segment before, moved by
+/// the distance between the two) says the view goes on, the first chunk takes every position up
+/// to kGuessMarginM short of it at once, and the small chunks start from there. The chunks only
+/// share out the work: a shadow is the set of a leg's points whose lines the edge crosses, the
+/// same whichever chunk the leg is in, so the answer does not depend on them (nor on the guess)
+/// beyond the rounding of a projected point.
 double flat_worse_kerb_m(const Scene& scene, const Path& path, const std::array<Point3, 2>& eyes,
-                         const SightParameters& p, SightWork& work, Fan& fan, Fan& second_fan,
+                         const SightParameters& p, double guess_m, SightWork& work, Fan& fan,
                          std::vector<sight_detail::CandidateEdge>& candidates, FlatBuffers& b) {
-  constexpr std::size_t kFirstChunk = 4, kMaxChunk = 8;  // positions (docs/performance.md)
+  static constexpr std::size_t kFirstChunk = 4, kMaxChunk = 8;  // positions (docs/performance.md)
+  constexpr double kGuessMarginM = 10.0;
   const double end_m = std::min(p.range_m, path.length_m());
   const auto position_m = [&](std::size_t index) {
     return std::min(double(index) * p.step_m, end_m);
@@ -661,14 +681,22 @@ double flat_worse_kerb_m(const Scene& scene, const Path& path, const std::array<
   };
   std::size_t next = 1;  // the next position's index
   double seen_m = 0.0;   // every position up to here is seen from both kerbs
-  for (std::size_t chunk = kFirstChunk; seen_m < end_m; chunk = std::min(2 * chunk, kMaxChunk)) {
+  // Where the view probably ends (guess_m, from the segment before) the first chunk stops
+  // short of it: one hull instead of the small ones on the way; the small ones follow.
+  const double guessed = std::floor((guess_m - kGuessMarginM) / p.step_m);
+  const bool big_first = guessed > double(kFirstChunk);
+  const auto next_size = [](std::size_t chunk) {
+    return chunk > kMaxChunk ? kFirstChunk : std::min(2 * chunk, kMaxChunk);
+  };
+  for (std::size_t chunk = big_first ? std::size_t(guessed) : kFirstChunk; seen_m < end_m;
+       chunk = next_size(chunk)) {
     std::size_t n = 1;  // positions in the chunk: up to `chunk`, the last one at end_m at most
     while (n < chunk && position_m(next + n - 1) < end_m) ++n;
     const std::size_t first = next;
     std::size_t last = next + n - 1;  // this chunk's positions; the second kerb may stop short
     next += n;
     outline_between(seen_m, position_m(last));
-    scene.candidates_for_both(fan, second_fan, eyes[0], eyes[1], b.outline, candidates);
+    scene.flat_candidates(fan, eyes[0], eyes[1], b.outline, &candidates);
     ++work.fans;
     work.candidates += candidates.size();
     if (candidates.empty()) {
@@ -724,13 +752,18 @@ struct Context {
 /// What a thread keeps from segment to segment (buffers, and when to try a direction open).
 struct SightThread {
   SightWork work;
-  Fan fan, second_fan;
+  Fan fan;
   std::vector<sight_detail::CandidateEdge> candidates;
   std::vector<PlanePoint> outline;
   OpenDirections open;
   Path ahead, behind;                                    ///< the segment's two directions
   std::array<std::vector<PlanePoint>, 2> kerb_outlines;  ///< KerbSearch's, per kerb
   FlatBuffers flat;
+  /// The segment this thread did last (its index, its position in its piece) and its two
+  /// answers: a guess for the next segment's when it is the next one of the same piece.
+  std::size_t last_index = std::numeric_limits<std::size_t>::max();
+  double last_pos_m = 0.0;
+  std::array<double, 2> last_answer_m{0.0, 0.0};
 };
 
 /// The points whose hull holds every position along `path` up to the range (to 1e-8 m, see
@@ -776,10 +809,19 @@ void sight_of_segment(const Context& c, Segment& s, SightThread& t) {
     const double g = s.bridge ? fallback : c.scene.ground(kerb, fallback);
     eyes[i] = Point3{kerb.x, kerb.y, g + c.p.sensor_height_m, g};
   }
+  // The view of the segment before on the piece ended about its offset further on ahead, and
+  // nearer behind (only a guess: it sets the first chunk, not the answer).
+  const std::size_t index = static_cast<std::size_t>(&s - c.graph.segments.data());
+  std::array<double, 2> guess_m{0.0, 0.0};
+  if (t.last_index + 1 == index && index > 0 &&
+      c.graph.segments[index - 1].piece_index == s.piece_index) {
+    const double moved_m = pos_m - t.last_pos_m;
+    guess_m = {t.last_answer_m[0] - moved_m, t.last_answer_m[1] + moved_m};
+  }
   const auto worse_m = [&](const Path& path, int direction) {
     if (!c.scene.has_terrain() && t.open.worth_trying(direction)) {
       outline_to_range(path, c.p.range_m, t.outline);
-      const bool open = c.scene.open_to_both(fan, t.second_fan, eyes[0], eyes[1], t.outline);
+      const bool open = c.scene.open_on_flat_ground(fan, eyes[0], eyes[1], t.outline);
       ++work.open_tried, work.open += open ? 1 : 0;
       t.open.tried(direction, open);
       // Every position of both kerbs is seen: the search's answer (a road that ends before
@@ -787,8 +829,8 @@ void sight_of_segment(const Context& c, Segment& s, SightThread& t) {
       if (open) return c.p.range_m;
     }
     if (!c.scene.has_terrain()) {
-      const double answer_m =
-          flat_worse_kerb_m(c.scene, path, eyes, c.p, work, fan, t.second_fan, candidates, t.flat);
+      const double answer_m = flat_worse_kerb_m(c.scene, path, eyes, c.p, guess_m[direction], work,
+                                                fan, candidates, t.flat);
       t.open.answered(direction, answer_m >= c.p.range_m);
       return answer_m;
     }
@@ -801,6 +843,7 @@ void sight_of_segment(const Context& c, Segment& s, SightThread& t) {
     return answer_m;
   };
   const double forward_m = worse_m(ahead, 0), backward_m = worse_m(behind, 1);
+  t.last_index = index, t.last_pos_m = pos_m, t.last_answer_m = {forward_m, backward_m};
   s.sight_forward_m = forward_m;
   s.sight_backward_m = backward_m;
   s.sight_min_m = std::min(forward_m, backward_m);

@@ -25,9 +25,20 @@ namespace roadcross::preprocess::sight_detail {
 /// by ~1e-14 of its size, but every input point lies in the hull of the vertices returned,
 /// which is what the fan test relies on.
 inline void convex_hull(std::vector<PlanePoint>& points, std::vector<PlanePoint>& hull) {
-  std::sort(points.begin(), points.end(), [](const PlanePoint& p, const PlanePoint& q) {
+  const auto before = [](const PlanePoint& p, const PlanePoint& q) {
     return p.x < q.x || (p.x == q.x && p.y < q.y);
-  });
+  };
+  // A chunk's few points (its eyes and a straight road's ends) sort faster by insertion.
+  if (points.size() <= 16) {
+    for (std::size_t i = 1; i < points.size(); ++i) {
+      const PlanePoint p = points[i];
+      std::size_t j = i;
+      for (; j > 0 && before(p, points[j - 1]); --j) points[j] = points[j - 1];
+      points[j] = p;
+    }
+  } else {
+    std::sort(points.begin(), points.end(), before);
+  }
   points.erase(std::unique(points.begin(), points.end(),
                            [](const PlanePoint& p, const PlanePoint& q) {
                              return p.x == q.x && p.y == q.y;
@@ -125,6 +136,9 @@ class Fan {
       reach_m_ = std::max(reach_m_, std::abs(t.x - eye.x) + std::abs(t.y - eye.y));
     }
     reach_m_ += 2 * kOutlineSlackM;
+    constexpr double kU = std::numeric_limits<double>::epsilon() / 2;
+    near_ = reach_m_ < kFarM;
+    cross_bound_ = 8 * kU * (reach_m_ / kMarginM + 2);
   }
 
   void set_axes() {
@@ -160,20 +174,40 @@ class Fan {
  public:
   /// True only when no line of the fan can be crossed by the edge a->b (see the class).
   bool edge_clear(const PlanePoint& a, const PlanePoint& b) const {
-    constexpr double kU = std::numeric_limits<double>::epsilon() / 2;
-    constexpr double kFarM = 1e5;
     const PlanePoint ra{a.x - eye_.x, a.y - eye_.y}, rb{b.x - eye_.x, b.y - eye_.y};
-    const double qa = std::abs(ra.x) + std::abs(ra.y), qb = std::abs(rb.x) + std::abs(rb.y);
-    if (!(qa < kFarM && qb < kFarM && reach_m_ < kFarM)) return false;
-    if (!separated(ra, rb)) return false;
-    const double sx = b.x - a.x, sy = b.y - a.y;
-    const double s1 = std::abs(sx) + std::abs(sy);
-    const double m = reach_m_ + s1 + 2 * qa;
-    const double cross = ra.x * sy - ra.y * sx;  // q x s
-    return std::abs(cross) > 8 * kU * s1 * m * (reach_m_ / kMarginM + 2);
+    return eye_clear(ra, rb, {b.x - a.x, b.y - a.y}) && separated(ra, rb);
+  }
+
+  /// True only when the edge a->b is at least kMarginM from every point of the hull: the
+  /// separating axes of edge_clear alone (with its bound on the distances), without the eye's
+  /// own test that crossing_parameter's rounding needs. Enough where no crossing_parameter is
+  /// computed (the shadows on flat ground, sight.cpp).
+  bool edge_apart(const PlanePoint& a, const PlanePoint& b) const {
+    if (!near_) return false;
+    const PlanePoint ra{a.x - eye_.x, a.y - eye_.y}, rb{b.x - eye_.x, b.y - eye_.y};
+    if (!(std::abs(ra.x) + std::abs(ra.y) < kFarM && std::abs(rb.x) + std::abs(rb.y) < kFarM)) {
+      return false;
+    }
+    return separated(ra, rb);
   }
 
  private:
+  /// The part of edge_clear that depends on the eye (ra, rb: the edge's ends relative to it):
+  /// both ends and the targets within reach of the proof's bounds, and |q x s| above its bound
+  /// (the eye off the edge's line; cross_bound_ holds its factors of the fan).
+  bool eye_clear(const PlanePoint& ra, const PlanePoint& rb, const PlanePoint& s) const {
+    const double qa = std::abs(ra.x) + std::abs(ra.y), qb = std::abs(rb.x) + std::abs(rb.y);
+    if (!(qa < kFarM && qb < kFarM && near_)) return false;
+    const double sx = s.x, sy = s.y;
+    const double s1 = std::abs(sx) + std::abs(sy);
+    const double m = reach_m_ + s1 + 2 * qa;
+    const double cross = ra.x * sy - ra.y * sx;  // q x s
+    return std::abs(cross) > cross_bound_ * s1 * m;
+  }
+
+  /// Beyond this (metres, |.|1 from the eye) the proof's bounds are not claimed.
+  static constexpr double kFarM = 1e5;
+
   /// Projections of points within 1e5 m of the eye are off by < 1e-10 m, the targets may be
   /// kOutlineSlackM outside: 1e-6 m covers both.
   static constexpr double kGapM = kMarginM + 1e-6;
@@ -245,6 +279,8 @@ class Fan {
 
   PlanePoint eye_;
   double reach_m_ = 0.0;            ///< R1: the largest |target - eye|1
+  bool near_ = false;               ///< reach_m_ < kFarM
+  double cross_bound_ = 0.0;        ///< 8 u (R1 / kMarginM + 2): |q x s| must exceed it |s|1 M
   std::vector<PlanePoint> points_;  ///< the targets and the eye (sorted by the hull)
   std::vector<PlanePoint> hull_, rel_hull_;
   mutable std::vector<Axis> axes_;  ///< their bounds filled in by separated() as needed
