@@ -18,6 +18,7 @@
 #include "roadcross/files/atomic_file.hpp"
 #include "roadcross/mapcheck/content_hash.hpp"
 #include "roadcross/preprocess/common/errors.hpp"
+#include "roadcross/preprocess/common/parallel.hpp"
 #include "roadcross/preprocess/common/progress.hpp"
 #include "roadcross/preprocess/common/sha256.hpp"
 #include "roadcross/preprocess/context/context.hpp"
@@ -316,10 +317,12 @@ void write_stage(const BuildOptions& options, Pipeline& p, const InputHashes& ha
       write_terrain_coverage(output.temp_path(), std::move(p.terrain_grid), contents.last_change);
       progress.finish_stage(std::string("table ") + kTerrainTable);
     }
-    // Last: the identity covers every table written above.
+    // Last: the identity covers every table written above. Each thread re-reads every row for
+    // its share of the columns: beyond a few shares that repeated walk is what grows.
     progress.start_stage("map identity");
     try {
-      const std::string map_id = mapcheck::stamp_map_id(output.temp_path());
+      const std::string map_id =
+          mapcheck::stamp_map_id(output.temp_path(), std::min(core_count(), 4u));
       progress.finish_stage("map_id " + map_id);
     } catch (const std::exception& e) {
       throw OutputError(std::string("cannot write the map_id: ") + e.what());
