@@ -294,6 +294,10 @@ std::string stamp_map_id(const std::string& path, unsigned threads) {
   const ContentDigest content = compute_content_digest(path, threads);
   // One thread uses each connection: no mutex round each sqlite3_column_* call (two a value).
   sqlite::Database db(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_NOMUTEX);
+  // No journal and no fsync of its own: the file is the build's private temporary one, removed
+  // on any failure and made durable (fsync) before it is renamed into place.
+  db.exec("PRAGMA journal_mode = OFF");
+  db.exec("PRAGMA synchronous = OFF");
   db.exec("BEGIN");
   const std::string table(schema::kMetadataTable);
   auto insert = db.prepare("INSERT OR REPLACE INTO " + table + " (key, value) VALUES (?1, ?2)");

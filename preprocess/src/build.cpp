@@ -317,6 +317,9 @@ void write_stage(const BuildOptions& options, Pipeline& p, const InputHashes& ha
       write_terrain_coverage(output.temp_path(), std::move(p.terrain_grid), contents.last_change);
       progress.finish_stage(std::string("table ") + kTerrainTable);
     }
+    // The tables are complete: the disk writes them while the identity is computed (it only
+    // reads them), so that the fsync before the rename has little left to wait for.
+    output.start_writeback();
     // Last: the identity covers every table written above. Each thread re-reads every row for
     // its share of the columns: beyond a few shares that repeated walk is what grows.
     progress.start_stage("map identity");
