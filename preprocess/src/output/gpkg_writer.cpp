@@ -101,10 +101,13 @@ class SegmentRows final : public RowSource {
   std::size_t row_count() const override { return count_; }
   int column_count() const override { return kColumns; }
 
+  std::optional<std::int64_t> ascending_rowid(std::size_t row) const override {
+    return RoadGraph::id_at(first_ + row);
+  }
+
   void column(std::size_t row, int column, sqlite3_context* out) const override {
     const std::size_t index = first_ + row;
     const Segment& s = graph_.segments[index];
-    if (column == 0) return sqlite3_result_int64(out, RoadGraph::id_at(index));
     if (column == 1) {
       const std::vector<std::uint8_t> blob = schema::encode_linestring(graph_.line(s), srs_id_);
       return sqlite3_result_blob(out, blob.data(), static_cast<int>(blob.size()), SQLITE_TRANSIENT);
