@@ -92,31 +92,41 @@ std::string hex(const Digest& digest) {
   return out;
 }
 
+/// A type byte and an 8-byte big-endian payload, in one update.
+void update_fixed(Sha256& sha, char type, std::uint64_t payload) {
+  std::array<std::uint8_t, 9> bytes{};
+  bytes[0] = static_cast<std::uint8_t>(type);
+  for (std::size_t i = 8; i >= 1; --i, payload >>= 8) bytes[i] = payload & 0xff;
+  sha.update(bytes.data(), bytes.size());
+}
+
 /// Feeds one SQLite value in the documented encoding (type byte, then a fixed-size or
-/// length-prefixed payload).
+/// length-prefixed payload). Read through sqlite3_column_value: one call into the statement
+/// a value instead of two (type, then the value), each of which takes and leaves the
+/// connection's mutex and checks for a failed allocation; the value's accessors do neither.
+/// (Safe here: one thread uses the statement's connection.)
 void hash_value(Sha256& sha, sqlite3_stmt* row, int column) {
-  switch (sqlite3_column_type(row, column)) {
+  sqlite3_value* value = sqlite3_column_value(row, column);
+  switch (sqlite3_value_type(value)) {
     case SQLITE_NULL:
       sha.update_byte('N');
       break;
     case SQLITE_INTEGER:
-      sha.update_byte('I');
-      sha.update_u64(static_cast<std::uint64_t>(sqlite3_column_int64(row, column)));
+      update_fixed(sha, 'I', static_cast<std::uint64_t>(sqlite3_value_int64(value)));
       break;
     case SQLITE_FLOAT:
-      sha.update_byte('R');
-      sha.update_u64(std::bit_cast<std::uint64_t>(sqlite3_column_double(row, column)));
+      update_fixed(sha, 'R', std::bit_cast<std::uint64_t>(sqlite3_value_double(value)));
       break;
     case SQLITE_TEXT: {
-      const auto* text = reinterpret_cast<const char*>(sqlite3_column_text(row, column));
+      const auto* text = reinterpret_cast<const char*>(sqlite3_value_text(value));
       sha.update_byte('T');
-      sha.update_sized({text, static_cast<std::size_t>(sqlite3_column_bytes(row, column))});
+      sha.update_sized({text, static_cast<std::size_t>(sqlite3_value_bytes(value))});
       break;
     }
     default: {  // SQLITE_BLOB
-      const auto* blob = static_cast<const char*>(sqlite3_column_blob(row, column));
+      const auto* blob = static_cast<const char*>(sqlite3_value_blob(value));
       sha.update_byte('B');
-      sha.update_sized({blob, static_cast<std::size_t>(sqlite3_column_bytes(row, column))});
+      sha.update_sized({blob, static_cast<std::size_t>(sqlite3_value_bytes(value))});
       break;
     }
   }
