@@ -104,9 +104,6 @@ void append_copy(const osmium::memory::Buffer& input, osmium::item_type type, in
 void write_osm(const osmium::memory::Buffer& input, const Layout& layout, const std::string& path) {
   osmium::io::Header header;
   header.set("generator", "roadcross make_tiled_osm");
-  // Written nodes, then ways, then relations, each in id order, and marked so, as the extracts
-  // it stands for are (Sort.Type_then_ID): a reader may rely on the nodes coming first.
-  header.set("sorting", "Type_then_ID");
   osmium::io::Writer writer{path, header, osmium::io::overwrite::allow};
   for (osmium::item_type type :
        {osmium::item_type::node, osmium::item_type::way, osmium::item_type::relation}) {

@@ -30,46 +30,18 @@ inline osmium::thread::Pool& osm_decoder_pool() {
   return pool;
 }
 
-/// Whether the header of the OSM file at `path` says it is sorted by type, then id (as osmium's
-/// and the usual extracts' are): its nodes then all come before its first way.
-inline bool sorted_by_type(const std::string& path) {
-  osmium::io::Reader header_only{osmium::io::File{path}, osmium::osm_entity_bits::nothing};
-  return header_only.header().get("sorting") == "Type_then_ID";
-}
-
-/// Hands `buffer`'s objects to `handlers` up to its first one that is not a node; true when
-/// there was one.
-template <typename... Handlers>
-bool apply_nodes(osmium::memory::Buffer& buffer, Handlers&... handlers) {
-  for (osmium::memory::Item& item : buffer) {
-    if (item.type() != osmium::item_type::node) return true;
-    osmium::apply_item(item, handlers...);
-  }
-  return false;
-}
-
 /// Reads the `entities` of the file at `path` and hands every object to each of `handlers` in
 /// file order, reporting the bytes read. libosmium decodes .pbf blocks on its worker threads
 /// (osm_decoder_pool) while the handlers run on this one.
 template <typename... Handlers>
 void read_osm_pass(const std::string& path, osmium::osm_entity_bits::type entities,
                    Progress& progress, Handlers&... handlers) {
-  // A pass over the nodes of a file sorted by type ends at its first way: the ways and
-  // relations after it (two fifths of a .pbf's blocks) are not decompressed.
-  const bool nodes_first = entities == osmium::osm_entity_bits::node && sorted_by_type(path);
-  osmium::io::Reader reader{osmium::io::File{path},
-                            nodes_first ? entities | osmium::osm_entity_bits::way : entities,
-                            osm_decoder_pool()};
+  osmium::io::Reader reader{osmium::io::File{path}, entities, osm_decoder_pool()};
   const std::uint64_t size = reader.file_size();
   while (osmium::memory::Buffer buffer = reader.read()) {
-    if (nodes_first) {
-      if (apply_nodes(buffer, handlers...)) break;
-    } else {
-      osmium::apply(buffer, handlers...);
-    }
+    osmium::apply(buffer, handlers...);
     progress.update(reader.offset(), size);
   }
-  progress.update(size, size);
   reader.close();
 }
 
