@@ -190,6 +190,12 @@ void AtomicFile::append(std::string_view bytes) {
   }
 }
 
+void AtomicFile::start_writeback() const noexcept {
+#if defined(__linux__)
+  ::sync_file_range(fd_, 0, 0, SYNC_FILE_RANGE_WRITE);
+#endif
+}
+
 void AtomicFile::sync() {
   // A full disk may only show when the data reach it (delayed allocation, NFS): fsync first,
   // so that a failure leaves the old file, not a truncated new one.

@@ -2,13 +2,17 @@
 
 #include <openssl/evp.h>
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cstdint>
+#include <future>
 #include <memory>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 #include "roadcross/schema/schema.hpp"
 #include "roadcross/schema/sqlite.hpp"
@@ -88,31 +92,41 @@ std::string hex(const Digest& digest) {
   return out;
 }
 
+/// A type byte and an 8-byte big-endian payload, in one update.
+void update_fixed(Sha256& sha, char type, std::uint64_t payload) {
+  std::array<std::uint8_t, 9> bytes{};
+  bytes[0] = static_cast<std::uint8_t>(type);
+  for (std::size_t i = 8; i >= 1; --i, payload >>= 8) bytes[i] = payload & 0xff;
+  sha.update(bytes.data(), bytes.size());
+}
+
 /// Feeds one SQLite value in the documented encoding (type byte, then a fixed-size or
-/// length-prefixed payload).
+/// length-prefixed payload). Read through sqlite3_column_value: one call into the statement
+/// a value instead of two (type, then the value), each of which takes and leaves the
+/// connection's mutex and checks for a failed allocation; the value's accessors do neither.
+/// (Safe here: one thread uses the statement's connection.)
 void hash_value(Sha256& sha, sqlite3_stmt* row, int column) {
-  switch (sqlite3_column_type(row, column)) {
+  sqlite3_value* value = sqlite3_column_value(row, column);
+  switch (sqlite3_value_type(value)) {
     case SQLITE_NULL:
       sha.update_byte('N');
       break;
     case SQLITE_INTEGER:
-      sha.update_byte('I');
-      sha.update_u64(static_cast<std::uint64_t>(sqlite3_column_int64(row, column)));
+      update_fixed(sha, 'I', static_cast<std::uint64_t>(sqlite3_value_int64(value)));
       break;
     case SQLITE_FLOAT:
-      sha.update_byte('R');
-      sha.update_u64(std::bit_cast<std::uint64_t>(sqlite3_column_double(row, column)));
+      update_fixed(sha, 'R', std::bit_cast<std::uint64_t>(sqlite3_value_double(value)));
       break;
     case SQLITE_TEXT: {
-      const auto* text = reinterpret_cast<const char*>(sqlite3_column_text(row, column));
+      const auto* text = reinterpret_cast<const char*>(sqlite3_value_text(value));
       sha.update_byte('T');
-      sha.update_sized({text, static_cast<std::size_t>(sqlite3_column_bytes(row, column))});
+      sha.update_sized({text, static_cast<std::size_t>(sqlite3_value_bytes(value))});
       break;
     }
     default: {  // SQLITE_BLOB
-      const auto* blob = static_cast<const char*>(sqlite3_column_blob(row, column));
+      const auto* blob = static_cast<const char*>(sqlite3_value_blob(value));
       sha.update_byte('B');
-      sha.update_sized({blob, static_cast<std::size_t>(sqlite3_column_bytes(row, column))});
+      sha.update_sized({blob, static_cast<std::size_t>(sqlite3_value_bytes(value))});
       break;
     }
   }
@@ -163,35 +177,88 @@ std::vector<HashedTable> hashed_tables() {
   };
 }
 
-/// Appends the digest of every column of `table` to `out`, in one pass over its rows.
-void digest_table(sqlite3* db, const HashedTable& table, std::vector<ColumnDigest>& out) {
-  const std::vector<std::string> columns = column_names(db, table.name);
+/// The digests of columns [first, last) of `table` (`columns`: all its columns, in order), in
+/// one pass over its rows.
+std::vector<Digest> digest_columns(sqlite3* db, const HashedTable& table,
+                                   const std::vector<std::string>& columns, std::size_t first,
+                                   std::size_t last) {
   std::string select = "SELECT ";
-  for (std::size_t i = 0; i < columns.size(); ++i) {
-    select += (i ? ", " : "") + quoted_identifier(columns[i]);
+  for (std::size_t i = first; i < last; ++i) {
+    select += (i > first ? ", " : "") + quoted_identifier(columns[i]);
   }
   select += " FROM " + quoted_identifier(table.name) + " " + table.where + " ORDER BY " +
             std::string(table.order_by);
-  std::vector<Sha256> column_hashes(columns.size());
+  std::vector<Sha256> column_hashes(last - first);
   sqlite::Statement rows(db, select);
   while (rows.step()) {
     sqlite3_stmt* row = rows.handle();
-    for (std::size_t i = 0; i < columns.size(); ++i) {
+    for (std::size_t i = 0; i < column_hashes.size(); ++i) {
       hash_value(column_hashes[i], row, static_cast<int>(i));
     }
   }
-  for (std::size_t i = 0; i < columns.size(); ++i) {
-    out.push_back({std::string(table.name), columns[i], hex(column_hashes[i].finish())});
+  std::vector<Digest> digests;
+  digests.reserve(column_hashes.size());
+  for (Sha256& hash : column_hashes) digests.push_back(hash.finish());
+  return digests;
+}
+
+/// A hashed table that is present, with its columns and their digests (filled by the shares).
+struct TableDigests {
+  HashedTable table;
+  std::vector<std::string> columns;
+  std::vector<Digest> digests;
+};
+
+/// The hashed tables present in `db`; throws when the metadata or segments table is missing.
+std::vector<TableDigests> present_tables(sqlite3* db) {
+  for (std::string_view required : {schema::kMetadataTable, schema::kSegmentsTable}) {
+    if (!has_table(db, required)) {
+      throw std::runtime_error("no table " + std::string(required) + ": not a roadcross map");
+    }
+  }
+  std::vector<TableDigests> tables;
+  for (const HashedTable& table : hashed_tables()) {
+    if (!has_table(db, table.name)) continue;
+    std::vector<std::string> columns = column_names(db, table.name);
+    std::vector<Digest> digests(columns.size());
+    tables.push_back({table, std::move(columns), std::move(digests)});
+  }
+  return tables;
+}
+
+/// Columns [first, last) of a table's `column_count` in share `share` of `shares`: contiguous
+/// runs of nearly equal length, so that each share reads every row but decodes only its columns.
+std::pair<std::size_t, std::size_t> share_of(std::size_t column_count, std::size_t share,
+                                             std::size_t shares) {
+  return {column_count * share / shares, column_count * (share + 1) / shares};
+}
+
+/// Hashes share `share` of `shares` of every table's columns into `tables`.
+void digest_share(sqlite3* db, std::vector<TableDigests>& tables, std::size_t share,
+                  std::size_t shares) {
+  for (TableDigests& each : tables) {
+    const auto [first, last] = share_of(each.columns.size(), share, shares);
+    if (first == last) continue;
+    std::vector<Digest> digests = digest_columns(db, each.table, each.columns, first, last);
+    std::copy(digests.begin(), digests.end(), each.digests.begin() + static_cast<long>(first));
   }
 }
 
-Digest parse_hex(const std::string& text) {
-  Digest out{};
-  const auto nibble = [](char c) { return c <= '9' ? c - '0' : c - 'a' + 10; };
-  for (std::size_t i = 0; i < out.size(); ++i) {
-    out[i] = static_cast<std::uint8_t>(nibble(text[2 * i]) * 16 + nibble(text[2 * i + 1]));
+/// The ContentDigest of the filled `tables`: the columns in order and the map_id over them.
+ContentDigest assemble(const std::vector<TableDigests>& tables) {
+  ContentDigest content;
+  Sha256 map_id;
+  for (const TableDigests& each : tables) {
+    for (std::size_t i = 0; i < each.columns.size(); ++i) {
+      content.columns.push_back(
+          {std::string(each.table.name), each.columns[i], hex(each.digests[i])});
+      map_id.update_sized(each.table.name);
+      map_id.update_sized(each.columns[i]);
+      map_id.update(each.digests[i].data(), each.digests[i].size());
+    }
   }
-  return out;
+  content.map_id = hex(map_id.finish());
+  return content;
 }
 
 }  // namespace
@@ -209,30 +276,38 @@ bool is_map_id(const std::string& text) {
 }
 
 ContentDigest compute_content_digest(sqlite3* db) {
-  for (std::string_view required : {schema::kMetadataTable, schema::kSegmentsTable}) {
-    if (!has_table(db, required)) {
-      throw std::runtime_error("no table " + std::string(required) + ": not a roadcross map");
-    }
-  }
-  ContentDigest content;
-  for (const HashedTable& table : hashed_tables()) {
-    if (has_table(db, table.name)) digest_table(db, table, content.columns);
-  }
-  Sha256 map_id;
-  for (const ColumnDigest& column : content.columns) {
-    map_id.update_sized(column.table);
-    map_id.update_sized(column.column);
-    const Digest digest = parse_hex(column.sha256_hex);
-    map_id.update(digest.data(), digest.size());
-  }
-  content.map_id = hex(map_id.finish());
-  return content;
+  std::vector<TableDigests> tables = present_tables(db);
+  digest_share(db, tables, 0, 1);
+  return assemble(tables);
 }
 
-std::string stamp_map_id(const std::string& path) {
-  // One thread uses this connection: no mutex round each sqlite3_column_* call (two a value).
+ContentDigest compute_content_digest(const std::string& path, unsigned threads) {
+  const int flags = SQLITE_OPEN_READONLY | SQLITE_OPEN_NOMUTEX;
+  sqlite::Database first(path, flags);
+  std::vector<TableDigests> tables = present_tables(first.handle());
+  const std::size_t shares = std::max(1u, threads);
+  // Each share on its own connection and thread; the columns' digests do not depend on which
+  // share computed them. std::async's futures wait for their threads if one share throws.
+  std::vector<std::future<void>> others;
+  for (std::size_t share = 1; share < shares; ++share) {
+    others.push_back(std::async(std::launch::async, [&path, &tables, share, shares, flags] {
+      sqlite::Database db(path, flags);
+      digest_share(db.handle(), tables, share, shares);
+    }));
+  }
+  digest_share(first.handle(), tables, 0, shares);
+  for (std::future<void>& other : others) other.get();
+  return assemble(tables);
+}
+
+std::string stamp_map_id(const std::string& path, unsigned threads) {
+  const ContentDigest content = compute_content_digest(path, threads);
+  // One thread uses each connection: no mutex round each sqlite3_column_* call (two a value).
   sqlite::Database db(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_NOMUTEX);
-  const ContentDigest content = compute_content_digest(db.handle());
+  // No journal and no fsync of its own: the file is the build's private temporary one, removed
+  // on any failure and made durable (fsync) before it is renamed into place.
+  db.exec("PRAGMA journal_mode = OFF");
+  db.exec("PRAGMA synchronous = OFF");
   db.exec("BEGIN");
   const std::string table(schema::kMetadataTable);
   auto insert = db.prepare("INSERT OR REPLACE INTO " + table + " (key, value) VALUES (?1, ?2)");

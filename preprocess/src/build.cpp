@@ -18,6 +18,7 @@
 #include "roadcross/files/atomic_file.hpp"
 #include "roadcross/mapcheck/content_hash.hpp"
 #include "roadcross/preprocess/common/errors.hpp"
+#include "roadcross/preprocess/common/parallel.hpp"
 #include "roadcross/preprocess/common/progress.hpp"
 #include "roadcross/preprocess/common/sha256.hpp"
 #include "roadcross/preprocess/context/context.hpp"
@@ -72,21 +73,33 @@ std::string base_name(const std::string& path) {
   return slash == std::string::npos ? path : path.substr(slash + 1);
 }
 
-/// Buildings and walls from the OSM file, then the sight distance of every segment over the
-/// stored terrain grid. The grid covers the roads' box plus the largest TPI radius, and every
-/// sight line joins two points within half a road width of that box: the whole line is on it.
-std::vector<std::string> run_sight_stage(const BuildOptions& options, RoadGraph& graph,
-                                         const RoadBounds& roads, const Grid* terrain,
-                                         ObstacleReader& reader, Progress& progress) {
-  const SightParameters& p = options.parameters.sight;
+/// The buildings' and walls' edges near the roads (the sight stage's obstacles), taken from
+/// `reader` on another thread: they need only the roads' zone and box, known once the graph is
+/// built, and the stages between do not read the reader.
+std::future<Obstacles> take_obstacles_aside(ObstacleReader& reader, const RoadGraph& graph,
+                                            const RoadBounds& roads) {
   const PlanePoint min{roads.min_e, roads.min_n}, max{roads.max_e, roads.max_n};
   constexpr double kReachM = 100.0;  // well beyond half of any carriageway's width
+  return std::async(std::launch::async, [&reader, zone = graph.zone, min, max] {
+    return reader.take_edges(zone, min, max, kReachM);
+  });
+}
+
+/// Buildings and walls from the OSM file (`taken`: take_obstacles_aside's), then the sight
+/// distance of every segment over the stored terrain grid. The grid covers the roads' box plus
+/// the largest TPI radius, and every sight line joins two points within half a road width of
+/// that box: the whole line is on it.
+std::vector<std::string> run_sight_stage(const BuildOptions& options, RoadGraph& graph,
+                                         const Grid* terrain, std::future<Obstacles>& taken,
+                                         Progress& progress) {
+  const SightParameters& p = options.parameters.sight;
   progress.start_stage("buildings and walls");
-  Obstacles obstacles = reader.take_edges(graph.zone, min, max, kReachM);
+  Obstacles obstacles = taken.get();
   progress.finish_stage(std::to_string(obstacles.report.buildings) + " buildings, " +
                         std::to_string(obstacles.report.walls) + " walls, " +
                         std::to_string(obstacles.report.fences) + " fences, " +
-                        std::to_string(obstacles.report.edges) + " edges");
+                        std::to_string(obstacles.report.edges) +
+                        " edges (taken beside the stages since segmenting)");
   progress.start_stage("sight distance");
   const SightReport report = compute_sight(graph, terrain, obstacles.edges, p);
   obstacles.edges = ObstacleEdges();
@@ -316,10 +329,15 @@ void write_stage(const BuildOptions& options, Pipeline& p, const InputHashes& ha
       write_terrain_coverage(output.temp_path(), std::move(p.terrain_grid), contents.last_change);
       progress.finish_stage(std::string("table ") + kTerrainTable);
     }
-    // Last: the identity covers every table written above.
+    // The tables are complete: the disk writes them while the identity is computed (it only
+    // reads them), so that the fsync before the rename has little left to wait for.
+    output.start_writeback();
+    // Last: the identity covers every table written above. Each thread re-reads every row for
+    // its share of the columns: beyond a few shares that repeated walk is what grows.
     progress.start_stage("map identity");
     try {
-      const std::string map_id = mapcheck::stamp_map_id(output.temp_path());
+      const std::string map_id =
+          mapcheck::stamp_map_id(output.temp_path(), std::min(core_count(), 4u));
       progress.finish_stage("map_id " + map_id);
     } catch (const std::exception& e) {
       throw OutputError(std::string("cannot write the map_id: ") + e.what());
@@ -393,6 +411,11 @@ BuildSummary run_build(const BuildOptions& options) {
   std::future<InputHashes> input_hashes =
       std::async(std::launch::async, hash_inputs, std::cref(options));
   segment_stage(options, p, progress);
+  // The obstacles' projection and compaction run beside the stages up to the sight stage, on
+  // the core that segmenting and context leave idle. (Declared after the reader and the
+  // pipeline: a stage's exception waits for it first.)
+  std::future<Obstacles> obstacles;
+  if (with_sight) obstacles = take_obstacles_aside(obstacle_reader, p.graph, p.roads);
   context_tags_stage(options, p, progress);
 
   // The segments' spatial index needs only their lines, which are final from here on: it is
@@ -410,9 +433,9 @@ BuildSummary run_build(const BuildOptions& options) {
   terrain_stage(options, p, segment_index, progress);
   context_scores_stage(options, p, progress);
   if (with_sight) {
-    p.sight_notes = run_sight_stage(options, p.graph, p.roads,
+    p.sight_notes = run_sight_stage(options, p.graph,
                                     options.elevation.sources.empty() ? nullptr : &p.terrain_grid,
-                                    obstacle_reader, progress);
+                                    obstacles, progress);
   }
   compute_ranks(p.graph, options.parameters.rank);
   apply_sight_rank_penalty(p.graph, options.parameters.sight);

@@ -3,6 +3,7 @@
 // RowSource's exception, an interrupt or a constraint violation fails the insert.
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -45,6 +46,24 @@ class NumberedRows final : public rp::RowSource {
 
  private:
   std::size_t rows_, throw_at_row_;
+};
+
+/// NumberedRows with the given ascending ids as column 0, the table's rowid.
+class AscendingRows final : public rp::RowSource {
+ public:
+  explicit AscendingRows(std::vector<std::int64_t> ids)
+      : ids_(std::move(ids)), values_(ids_.size()) {}
+  std::size_t row_count() const override { return ids_.size(); }
+  int column_count() const override { return 4; }
+  std::optional<std::int64_t> ascending_rowid(std::size_t row) const override { return ids_[row]; }
+  void column(std::size_t row, int column, sqlite3_context* out) const override {
+    if (column == 0) throw std::logic_error("column 0 asked for");
+    values_.column(row, column, out);
+  }
+
+ private:
+  std::vector<std::int64_t> ids_;
+  NumberedRows values_;
 };
 
 sqlite::Database table_db() {
@@ -148,6 +167,27 @@ TEST(BulkInsert, ConstraintViolationFails) {
   db.exec("INSERT INTO t VALUES (2, 0, NULL, NULL)");  // row 1 of the source has id 2
   EXPECT_THROW(rp::insert_rows(db.handle(), "t", "id, x, s, b", NumberedRows(3)),
                sqlite::sqlite_error);
+}
+
+// Rowids one more than the previous row's reach SQLite as NULL (it appends them with its own
+// next rowid, the same number); the others, and the first, as given.
+TEST(BulkInsert, AscendingRowidsAreStoredAsGiven) {
+  sqlite::Database db = table_db();
+  db.exec("INSERT INTO t VALUES (2, 9, NULL, NULL)");  // smaller than the source's first id
+  rp::insert_rows(db.handle(), "t", "id, x, s, b", AscendingRows({5, 6, 7, 10, 11, 13}));
+  auto ids = db.prepare("SELECT group_concat(id, ' '), group_concat(x, ' ') FROM t");
+  ASSERT_TRUE(ids.step());
+  EXPECT_EQ(ids.column_text(0), "2 5 6 7 10 11 13");
+  EXPECT_EQ(ids.column_text(1), "9.0 0.0 0.5 1.0 1.5 2.0 2.5");
+}
+
+TEST(BulkInsert, AscendingRowidsBelowTheTablesLargestFail) {
+  sqlite::Database db = table_db();
+  db.exec("BEGIN");
+  db.exec("INSERT INTO t VALUES (100, 9, NULL, NULL)");
+  // SQLite's next rowid would be 101, 102: the check of the last row's rowid fails.
+  EXPECT_THROW(rp::insert_rows(db.handle(), "t", "id, x, s, b", AscendingRows({5, 6, 7})),
+               std::logic_error);
 }
 
 }  // namespace

@@ -2,12 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <memory>
 #include <set>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
+#include "roadcross/preprocess/common/parallel.hpp"
 #include "roadcross/preprocess/osm/road_network.hpp"
 
 namespace roadcross::preprocess {
@@ -82,12 +85,18 @@ struct NodeRun {
 class ProjectedNodes {
  public:
   ProjectedNodes(const std::vector<NodeLocation>& locations, const geo::UtmZone& zone)
-      : locations_(locations) {
-    points_.reserve(locations.size());
-    for (const NodeLocation& n : locations) {
-      const geo::UtmPoint p = geo::wgs84_to_utm(n.lat_deg, n.lon_deg, zone);
-      points_.push_back({p.easting_m, p.northing_m});
-    }
+      : locations_(locations), points_(locations.size()) {
+    // On every core: the exact projection (thousands of instructions a node) is most of the
+    // segmenting's time, and each node's point is its own.
+    constexpr std::size_t kNodesPerTask = 4096;
+    const std::size_t tasks = (locations.size() + kNodesPerTask - 1) / kNodesPerTask;
+    parallel_for<NoState>(tasks, [&](std::size_t task, NoState&) {
+      const std::size_t end = std::min(locations.size(), (task + 1) * kNodesPerTask);
+      for (std::size_t i = task * kNodesPerTask; i < end; ++i) {
+        const geo::UtmPoint p = geo::wgs84_to_utm(locations[i].lat_deg, locations[i].lon_deg, zone);
+        points_[i] = {p.easting_m, p.northing_m};
+      }
+    });
   }
   const PlanePoint* find(std::int64_t id) const {
     const auto it = std::lower_bound(
@@ -227,16 +236,43 @@ RoadGraph build_road_graph(const RoadNetwork& network, geo::UtmZone zone,
   // The located runs are recomputed in each of the three passes below rather than kept: a copy
   // of every node id and point of every way would sit beside the segment table at the peak.
 
+  // Passes 1 and 2 walk the ways in chunks on every core, each chunk's results kept apart and
+  // joined in way order: the same lists as one walk.
+  constexpr std::size_t kWaysPerTask = 1024;
+  const std::size_t tasks = (network.ways.size() + kWaysPerTask - 1) / kWaysPerTask;
+  const auto ways_of = [&](std::size_t task) {
+    return std::pair(task * kWaysPerTask, std::min(network.ways.size(), (task + 1) * kWaysPerTask));
+  };
+
   // Pass 1: the graph's inner nodes, those used more than once across all runs (sorted ids).
-  std::vector<std::int64_t> junctions;
-  for (const RoadWay& way : network.ways) {
-    const std::vector<NodeRun> runs = located_runs(way, *projected, graph.dropped_node_refs);
-    if (runs.empty()) ++graph.dropped_ways;
-    for (const NodeRun& run : runs) {
-      // A closed way's last node is its first: count it once so a ring alone is not a junction.
-      const bool ring = run.ids.back() == run.ids.front();
-      junctions.insert(junctions.end(), run.ids.begin(), run.ids.end() - (ring ? 1 : 0));
+  struct RunNodes {
+    std::vector<std::int64_t> ids;
+    std::uint64_t dropped_refs = 0;
+    std::size_t dropped_ways = 0;
+  };
+  std::vector<RunNodes> run_nodes(tasks);
+  parallel_for<NoState>(tasks, [&](std::size_t task, NoState&) {
+    RunNodes& out = run_nodes[task];
+    const auto [first, last] = ways_of(task);
+    for (std::size_t w = first; w < last; ++w) {
+      const std::vector<NodeRun> runs = located_runs(network.ways[w], *projected, out.dropped_refs);
+      if (runs.empty()) ++out.dropped_ways;
+      for (const NodeRun& run : runs) {
+        // A closed way's last node is its first: count it once so a ring alone is not a junction.
+        const bool ring = run.ids.back() == run.ids.front();
+        out.ids.insert(out.ids.end(), run.ids.begin(), run.ids.end() - (ring ? 1 : 0));
+      }
     }
+  });
+  std::vector<std::int64_t> junctions;
+  std::size_t run_node_count = 0;
+  for (const RunNodes& part : run_nodes) run_node_count += part.ids.size();
+  junctions.reserve(run_node_count);
+  for (RunNodes& part : run_nodes) {
+    junctions.insert(junctions.end(), part.ids.begin(), part.ids.end());
+    graph.dropped_node_refs += part.dropped_refs;
+    graph.dropped_ways += part.dropped_ways;
+    std::vector<std::int64_t>().swap(part.ids);  // freed as copied: not held twice
   }
   std::sort(junctions.begin(), junctions.end());
   auto kept = junctions.begin();
@@ -254,31 +290,48 @@ RoadGraph build_road_graph(const RoadNetwork& network, geo::UtmZone zone,
   // Pass 2: the pieces (runs split at inner nodes), their lengths and segment counts, so that
   // the segment table is allocated once at its exact size (growing it by doubling would hold
   // the old and the new table at once: 1.5 times the table at the peak).
-  std::uint64_t ignored_refs = 0;
-  std::size_t segment_total = 0, point_total = 0;
-  for (std::size_t w = 0; w < network.ways.size(); ++w) {
-    for (const NodeRun& run : located_runs(network.ways[w], *projected, ignored_refs)) {
-      std::size_t start = 0;
-      for (std::size_t i = 1; i < run.ids.size(); ++i) {
-        const bool end_of_run = (i + 1 == run.ids.size());
-        if (!end_of_run && !is_split_node(run.ids[i])) continue;
-        RoadPiece piece;
-        piece.way_index = w;
-        piece.from_node_id = run.ids[start];
-        piece.to_node_id = run.ids[i];
-        piece.points.assign(run.points.begin() + static_cast<std::ptrdiff_t>(start),
-                            run.points.begin() + static_cast<std::ptrdiff_t>(i) + 1);
-        piece.node_ids.assign(run.ids.begin() + static_cast<std::ptrdiff_t>(start),
-                              run.ids.begin() + static_cast<std::ptrdiff_t>(i) + 1);
-        piece.length_m = polyline_length_m(piece.points);
-        piece.segment_count = segment_count_of(piece.length_m, max_segment_length_m);
-        segment_total += piece.segment_count;
-        // At most: the start, each segment's end and every inner vertex once.
-        point_total += piece.segment_count + piece.points.size() - 1;
-        graph.pieces.push_back(std::move(piece));
-        start = i;
+  struct Pieces {
+    std::vector<RoadPiece> pieces;
+    std::size_t segments = 0, points = 0;
+  };
+  std::vector<Pieces> pieces_of_task(tasks);
+  parallel_for<NoState>(tasks, [&](std::size_t task, NoState&) {
+    Pieces& out = pieces_of_task[task];
+    std::uint64_t ignored_refs = 0;
+    const auto [first, last] = ways_of(task);
+    for (std::size_t w = first; w < last; ++w) {
+      for (const NodeRun& run : located_runs(network.ways[w], *projected, ignored_refs)) {
+        std::size_t start = 0;
+        for (std::size_t i = 1; i < run.ids.size(); ++i) {
+          const bool end_of_run = (i + 1 == run.ids.size());
+          if (!end_of_run && !is_split_node(run.ids[i])) continue;
+          RoadPiece piece;
+          piece.way_index = w;
+          piece.from_node_id = run.ids[start];
+          piece.to_node_id = run.ids[i];
+          piece.points.assign(run.points.begin() + static_cast<std::ptrdiff_t>(start),
+                              run.points.begin() + static_cast<std::ptrdiff_t>(i) + 1);
+          piece.node_ids.assign(run.ids.begin() + static_cast<std::ptrdiff_t>(start),
+                                run.ids.begin() + static_cast<std::ptrdiff_t>(i) + 1);
+          piece.length_m = polyline_length_m(piece.points);
+          piece.segment_count = segment_count_of(piece.length_m, max_segment_length_m);
+          out.segments += piece.segment_count;
+          // At most: the start, each segment's end and every inner vertex once.
+          out.points += piece.segment_count + piece.points.size() - 1;
+          out.pieces.push_back(std::move(piece));
+          start = i;
+        }
       }
     }
+  });
+  std::size_t segment_total = 0, point_total = 0, piece_total = 0;
+  for (const Pieces& part : pieces_of_task) piece_total += part.pieces.size();
+  graph.pieces.reserve(piece_total);
+  for (Pieces& part : pieces_of_task) {
+    segment_total += part.segments;
+    point_total += part.points;
+    std::move(part.pieces.begin(), part.pieces.end(), std::back_inserter(graph.pieces));
+    std::vector<RoadPiece>().swap(part.pieces);
   }
   graph.pieces.shrink_to_fit();
   if (graph.pieces.size() > std::numeric_limits<std::uint32_t>::max()) {

@@ -79,7 +79,8 @@ class MergedOsmReader::Input {
   static std::unique_ptr<osmium::io::Reader> open(const std::string& path,
                                                   osmium::osm_entity_bits::type entities) {
     try {
-      return std::make_unique<osmium::io::Reader>(osmium::io::File{path}, entities);
+      return std::make_unique<osmium::io::Reader>(osmium::io::File{path}, entities,
+                                                  osm_decoder_pool());
     } catch (const std::exception& e) {
       throw InputError(path, std::string("not readable as OSM data: ") + e.what());
     }

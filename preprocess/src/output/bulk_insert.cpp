@@ -1,7 +1,10 @@
 #include "roadcross/preprocess/output/bulk_insert.hpp"
 
 #include <atomic>
+#include <cstdint>
 #include <exception>
+#include <optional>
+#include <stdexcept>
 #include <string>
 
 #include "roadcross/schema/sqlite.hpp"
@@ -25,6 +28,9 @@ struct FeedCursor {
   sqlite3_vtab_cursor base{};  // first: SQLite casts between the two
   const RowFeed* feed = nullptr;
   std::size_t row = 0;
+  /// The last rowid handed on (ascending_rowid sources) and its row.
+  std::int64_t last_rowid = 0;
+  std::size_t last_rowid_row = SIZE_MAX;
 };
 
 int feed_connect(sqlite3* db, void* client_data, int /*argc*/, const char* const* /*argv*/,
@@ -68,8 +74,10 @@ int feed_close(sqlite3_vtab_cursor* cursor) {
   return SQLITE_OK;
 }
 
-int feed_filter(sqlite3_vtab_cursor* cursor, int, const char*, int, sqlite3_value**) {
-  reinterpret_cast<FeedCursor*>(cursor)->row = 0;
+int feed_filter(sqlite3_vtab_cursor* base, int, const char*, int, sqlite3_value**) {
+  auto* cursor = reinterpret_cast<FeedCursor*>(base);
+  cursor->row = 0;
+  cursor->last_rowid_row = SIZE_MAX;
   return SQLITE_OK;
 }
 
@@ -87,10 +95,27 @@ int feed_eof(sqlite3_vtab_cursor* base) {
   return cursor->row >= cursor->feed->source->row_count() ? 1 : 0;
 }
 
+/// Column 0 of a source with ascending rowids: NULL when SQLite's own next rowid (the largest
+/// plus one, after the previous row's) is the row's.
+void rowid_column(FeedCursor& cursor, std::int64_t rowid, sqlite3_context* out) {
+  const bool next_after_previous =
+      cursor.row > 0 && cursor.last_rowid_row == cursor.row - 1 && cursor.last_rowid + 1 == rowid;
+  cursor.last_rowid = rowid;
+  cursor.last_rowid_row = cursor.row;
+  if (!next_after_previous) sqlite3_result_int64(out, rowid);
+}
+
 int feed_column(sqlite3_vtab_cursor* base, sqlite3_context* out, int column) {
-  const auto* cursor = reinterpret_cast<FeedCursor*>(base);
+  auto* cursor = reinterpret_cast<FeedCursor*>(base);
   try {
-    cursor->feed->source->column(cursor->row, column, out);
+    const RowSource& source = *cursor->feed->source;
+    const std::optional<std::int64_t> rowid =
+        column == 0 ? source.ascending_rowid(cursor->row) : std::nullopt;
+    if (rowid) {
+      rowid_column(*cursor, *rowid, out);
+    } else {
+      source.column(cursor->row, column, out);
+    }
   } catch (const std::exception& e) {
     sqlite3_result_error(out, e.what(), -1);
     return SQLITE_ERROR;
@@ -138,9 +163,19 @@ void insert_rows(sqlite3* db, std::string_view table, std::string_view column_li
     throw sqlite::sqlite_error(
         rc, "cannot register the bulk-insert module: " + std::string(sqlite3_errmsg(db)));
   }
-  sqlite::Statement insert(db, "INSERT INTO \"" + std::string(table) + "\" (" +
-                                   std::string(column_list) + ") SELECT * FROM " + name);
+  std::string quoted_table = "\"";  // (not "\"" + ...: GCC 12 warns falsely, -Wrestrict)
+  quoted_table += table;
+  quoted_table += '"';
+  sqlite::Statement insert(db, "INSERT INTO " + quoted_table + " (" + std::string(column_list) +
+                                   ") SELECT * FROM " + name);
   insert.run();
+  const std::size_t rows = source.row_count();
+  if (rows == 0 || !source.ascending_rowid(0)) return;
+  sqlite::Statement last(db, "SELECT max(rowid) FROM " + quoted_table);
+  if (!last.step() || last.column_int64(0) != *source.ascending_rowid(rows - 1)) {
+    throw std::logic_error("insert_rows: the rows of " + std::string(table) +
+                           " did not get their ascending rowids (larger ones were there)");
+  }
 }
 
 }  // namespace roadcross::preprocess

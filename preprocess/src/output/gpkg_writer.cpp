@@ -101,10 +101,13 @@ class SegmentRows final : public RowSource {
   std::size_t row_count() const override { return count_; }
   int column_count() const override { return kColumns; }
 
+  std::optional<std::int64_t> ascending_rowid(std::size_t row) const override {
+    return RoadGraph::id_at(first_ + row);
+  }
+
   void column(std::size_t row, int column, sqlite3_context* out) const override {
     const std::size_t index = first_ + row;
     const Segment& s = graph_.segments[index];
-    if (column == 0) return sqlite3_result_int64(out, RoadGraph::id_at(index));
     if (column == 1) {
       const std::vector<std::uint8_t> blob = schema::encode_linestring(graph_.line(s), srs_id_);
       return sqlite3_result_blob(out, blob.data(), static_cast<int>(blob.size()), SQLITE_TRANSIENT);
@@ -252,15 +255,19 @@ std::string segment_column_list() {
   return names;
 }
 
-/// Inserts every segment row, on both cores: the second half goes into a side database
-/// (`<path>-rows`, same table) on a second thread while the first half goes into `db`; then
-/// SQLite copies the side table's records into `db` without decoding them (its "xfer"
-/// optimisation of INSERT INTO t SELECT * FROM t2, cheaper than encoding the rows again).
+/// Inserts every segment row, on both cores: the last rows go into a side database
+/// (`<path>-rows`, same table) on a second thread while the first ones go into `db` and are
+/// committed; then SQLite copies the side table's records into `db` without decoding them (its
+/// "xfer" optimisation of INSERT INTO t SELECT * FROM t2, cheaper than encoding the rows again).
 /// The rows and their order are the same as one insert of all rows.
 void write_segment_rows(sqlite::Database& db, const std::string& db_path, const RoadGraph& graph,
                         const SuitabilityRule& rule, Progress& progress) {
   const std::size_t total = graph.segments.size();
-  const std::size_t split = total / 2;
+  // The side thread takes more than half: this thread's rows cost more (their commit writes
+  // them out after the insert; the side connection's small cache writes as it goes) and it
+  // copies the side's rows after. docs/performance.md, "Build stages besides sight".
+  constexpr std::size_t kFirstRowsPerMille = 360;
+  const std::size_t split = total * kFirstRowsPerMille / 1000;
   const std::string side_path = db_path + kSideRowsSuffix;
   std::string create_table;
   {
@@ -293,6 +300,9 @@ void write_segment_rows(sqlite::Database& db, const std::string& db_path, const 
     insert_rows(db.handle(), schema::kSegmentsTable, segment_column_list(),
                 SegmentRows(graph, rule, 0, split),
                 [&](std::size_t done) { progress.update(done + side_rows_done, total); });
+    // Written out while the side thread still inserts. (ATTACH below cannot run inside a
+    // transaction; with journal_mode OFF, COMMIT and BEGIN only end and start the batch.)
+    db.exec("COMMIT");
   } catch (...) {
     stop_side = true;
     side.wait();  // it reads the graph and writes the side file: let it stop first
@@ -308,9 +318,6 @@ void write_segment_rows(sqlite::Database& db, const std::string& db_path, const 
   std::string table = "\"";  // (not "\"" + ...: GCC 12 warns falsely, -Wrestrict)
   table += schema::kSegmentsTable;
   table += '"';
-  // ATTACH cannot run inside a transaction; with journal_mode OFF, COMMIT and BEGIN only end and
-  // start the batch (nothing is synced).
-  db.exec("COMMIT");
   sqlite::Statement attach = db.prepare("ATTACH DATABASE ? AS side_rows");
   attach.bind(1, side_path);
   attach.run();

@@ -148,8 +148,11 @@ class RowidRows final : public RowSource {
       : leaf_of_entry_(leaf_of_entry), entry_at_(entry_at) {}
   std::size_t row_count() const override { return leaf_of_entry_.size(); }
   int column_count() const override { return 2; }
-  void column(std::size_t row, int column, sqlite3_context* out) const override {
-    sqlite3_result_int64(out, column == 0 ? entry_at_(row).id : leaf_of_entry_[row]);
+  std::optional<std::int64_t> ascending_rowid(std::size_t row) const override {
+    return entry_at_(row).id;
+  }
+  void column(std::size_t row, int /*column 1*/, sqlite3_context* out) const override {
+    sqlite3_result_int64(out, leaf_of_entry_[row]);
   }
 
  private:

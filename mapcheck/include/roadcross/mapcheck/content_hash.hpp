@@ -41,10 +41,16 @@ struct ContentDigest {
 /// read error and std::runtime_error when the segments or metadata table is missing.
 ContentDigest compute_content_digest(sqlite3* db);
 
+/// The same digests of the map at `path`, on `threads` threads (0 counts as 1), each with its own
+/// read-only connection and a share of every table's columns: SHA-256 is sequential along a
+/// column, so the columns are what divides. Throws as above.
+ContentDigest compute_content_digest(const std::string& path, unsigned threads);
+
 /// Computes the digests of the map at `path` and stores map_id and the content.* rows in its
-/// roadcross_metadata (replacing earlier ones), in one transaction. For roadcross-build, on its
-/// private temporary file. Returns map_id. Throws sqlite::sqlite_error naming the problem.
-std::string stamp_map_id(const std::string& path);
+/// roadcross_metadata (replacing earlier ones), in one transaction, without a journal or an
+/// fsync: for roadcross-build, on its private temporary file. Returns map_id. Throws sqlite::sqlite_error naming the problem.
+/// `threads`: as compute_content_digest's; the file must not be open for writing meanwhile.
+std::string stamp_map_id(const std::string& path, unsigned threads = 1);
 
 /// True when `text` looks like a map_id: 64 lower-case hex digits.
 bool is_map_id(const std::string& text);

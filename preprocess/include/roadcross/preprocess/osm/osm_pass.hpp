@@ -2,12 +2,15 @@
 // network and, through it, the sight stage's obstacles).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <osmium/io/any_input.hpp>
+#include <osmium/thread/pool.hpp>
 #include <osmium/visitor.hpp>
 #include <string>
+#include <thread>
 #include <tuple>
 #include <vector>
 
@@ -15,13 +18,25 @@
 
 namespace roadcross::preprocess {
 
+/// The threads that decode .pbf blocks for every OSM reader of the build: OSMIUM_POOL_THREADS
+/// when set, else libosmium's default (the cores less two) but at least two. With one, a 2-core
+/// machine's second core idles through much of each pass: the ways pass decodes every node
+/// block before its first way reaches the handlers.
+inline osmium::thread::Pool& osm_decoder_pool() {
+  static osmium::thread::Pool pool{
+      osmium::config::get_pool_threads() != 0
+          ? osmium::thread::Pool::default_num_threads
+          : std::max(2, static_cast<int>(std::thread::hardware_concurrency()) - 2)};
+  return pool;
+}
+
 /// Reads the `entities` of the file at `path` and hands every object to each of `handlers` in
-/// file order, reporting the bytes read. libosmium decodes .pbf blocks on its own worker
-/// threads while the handlers run on this one.
+/// file order, reporting the bytes read. libosmium decodes .pbf blocks on its worker threads
+/// (osm_decoder_pool) while the handlers run on this one.
 template <typename... Handlers>
 void read_osm_pass(const std::string& path, osmium::osm_entity_bits::type entities,
                    Progress& progress, Handlers&... handlers) {
-  osmium::io::Reader reader{osmium::io::File{path}, entities};
+  osmium::io::Reader reader{osmium::io::File{path}, entities, osm_decoder_pool()};
   const std::uint64_t size = reader.file_size();
   while (osmium::memory::Buffer buffer = reader.read()) {
     osmium::apply(buffer, handlers...);

@@ -6,7 +6,9 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
+#include <optional>
 #include <string_view>
 
 struct sqlite3;
@@ -24,12 +26,23 @@ class RowSource {
   /// one of the sqlite3_result_*() functions (none: NULL). Rows are asked for in order. May
   /// throw: the insert then fails with the exception's message.
   virtual void column(std::size_t row, int column, sqlite3_context* out) const = 0;
+  /// Row `row`'s rowid, when column 0 is the table's rowid (INTEGER PRIMARY KEY) and rows come
+  /// in ascending rowid order; column() is then not asked for column 0. insert_rows passes a
+  /// rowid one more than the previous row's as NULL: SQLite gives the row the table's largest
+  /// rowid plus one, the same number, and appends it without searching the B-tree twice for it
+  /// (a conflict check, then the insert's own search). The table's rows must all have smaller
+  /// rowids than the first row's (insert_rows checks the last row's rowid). nullopt (the
+  /// default): column 0 is an ordinary column.
+  virtual std::optional<std::int64_t> ascending_rowid(std::size_t /*row*/) const {
+    return std::nullopt;
+  }
 };
 
 /// Runs `INSERT INTO <table> (<column_list>) SELECT * FROM <virtual table over source>` on `db`
 /// (in the caller's transaction); `column_list` names source.column_count() columns, comma
 /// separated. `on_progress(rows_done)` is called every 4096 rows. Throws sqlite::sqlite_error
-/// with SQLite's message (or a RowSource exception's) on failure.
+/// with SQLite's message (or a RowSource exception's) on failure, and std::logic_error when an
+/// ascending_rowid() source's last row did not get its rowid (the table had larger ones).
 void insert_rows(sqlite3* db, std::string_view table, std::string_view column_list,
                  const RowSource& source,
                  const std::function<void(std::size_t rows_done)>& on_progress = {});

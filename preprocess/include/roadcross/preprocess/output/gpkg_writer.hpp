@@ -45,6 +45,8 @@ class AtomicOutput {
 
   const std::string& temp_path() const noexcept { return file_->temp_path(); }
   const std::string& target_path() const noexcept { return file_->target_path(); }
+  /// files::AtomicFile::start_writeback of the temporary file.
+  void start_writeback() const noexcept { file_->start_writeback(); }
   /// Flushes and renames the temporary file onto the target (atomic on POSIX file systems).
   void commit();
 
