@@ -48,8 +48,9 @@ ContentDigest compute_content_digest(const std::string& path, unsigned threads);
 
 /// Computes the digests of the map at `path` and stores map_id and the content.* rows in its
 /// roadcross_metadata (replacing earlier ones), in one transaction, without a journal or an
-/// fsync: for roadcross-build, on its private temporary file. Returns map_id. Throws sqlite::sqlite_error naming the problem.
-/// `threads`: as compute_content_digest's; the file must not be open for writing meanwhile.
+/// fsync: for roadcross-build, on its private temporary file. Returns map_id. Throws
+/// sqlite::sqlite_error naming the problem. `threads`: as compute_content_digest's; the file must
+/// not be open for writing meanwhile.
 std::string stamp_map_id(const std::string& path, unsigned threads = 1);
 
 /// True when `text` looks like a map_id: 64 lower-case hex digits.
