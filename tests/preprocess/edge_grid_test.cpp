@@ -426,6 +426,26 @@ double point_segment_m(const PlanePoint& p, const PlanePoint& a, const PlanePoin
   return std::hypot(p.x - (a.x + t * sx), p.y - (a.y + t * sy));
 }
 
+/// A random eye within 1 km of a point of UTM zone 32 and a wiggly road ahead of it: 2-32
+/// positions 5 m apart, starting 5-255 m away (straight for every third `k`). Fills `eye` and
+/// `targets` (cleared first).
+void random_fan_road(std::mt19937_64& rng, int k, PlanePoint& eye,
+                     std::vector<PlanePoint>& targets) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0), unit(0.0, 1.0);
+  std::uniform_int_distribution<int> size(2, 32);
+  const double x0 = 731234.56, y0 = 4849876.54;
+  eye = {x0 + 1000 * u(rng), y0 + 1000 * u(rng)};
+  targets.clear();
+  double heading = 3.2 * u(rng), px = eye.x + 4 * u(rng), py = eye.y + 4 * u(rng);
+  const double turn = 0.05 * u(rng) * (k % 3 == 0 ? 0.0 : 1.0), start = 5 + 250 * unit(rng);
+  px += start * std::cos(heading), py += start * std::sin(heading);
+  for (int j = 0, n = size(rng); j < n; ++j) {
+    targets.push_back({px, py});
+    heading += turn;
+    px += 5 * std::cos(heading), py += 5 * std::sin(heading);
+  }
+}
+
 }  // namespace
 
 TEST(FanHull, SquareWithInsideCollinearAndRepeatedPoints) {
@@ -523,20 +543,11 @@ TEST(FanClear, ClearEdgesCrossNoLineOfTheFan) {
   // fan (and the edge is at least the margin from every line).
   std::mt19937_64 rng(17);
   std::uniform_real_distribution<double> u(-1.0, 1.0), unit(0.0, 1.0);
-  std::uniform_int_distribution<int> size(2, 32);
-  const double x0 = 731234.56, y0 = 4849876.54;
   std::size_t clear = 0, not_clear = 0, grazing_clear = 0;
   for (int k = 0; k < 4000; ++k) {
-    const PlanePoint eye{x0 + 1000 * u(rng), y0 + 1000 * u(rng)};
+    PlanePoint eye;
     std::vector<PlanePoint> targets;
-    double heading = 3.2 * u(rng), px = eye.x + 4 * u(rng), py = eye.y + 4 * u(rng);
-    const double turn = 0.05 * u(rng) * (k % 3 == 0 ? 0.0 : 1.0), start = 5 + 250 * unit(rng);
-    px += start * std::cos(heading), py += start * std::sin(heading);
-    for (int j = 0, n = size(rng); j < n; ++j) {
-      targets.push_back({px, py});
-      heading += turn;
-      px += 5 * std::cos(heading), py += 5 * std::sin(heading);
-    }
+    random_fan_road(rng, k, eye, targets);
     sd::Fan fan;
     fan.reset(eye, targets);
     for (int e = 0; e < 60; ++e) {
@@ -604,21 +615,12 @@ TEST(FanClear, EdgesSetApartCastNoShadowOnAnyLeg) {
   // edge_apart says apart, leg_shadow finds nothing on any leg between consecutive positions.
   std::mt19937_64 rng(29);
   std::uniform_real_distribution<double> u(-1.0, 1.0), unit(0.0, 1.0);
-  std::uniform_int_distribution<int> size(2, 32);
-  const double x0 = 731234.56, y0 = 4849876.54;
   const sd::BlockingFractions whole{0.0, 1.0};
   std::size_t apart = 0, near = 0, grazing_apart = 0;
   for (int k = 0; k < 3000; ++k) {
-    const PlanePoint eye{x0 + 1000 * u(rng), y0 + 1000 * u(rng)};
+    PlanePoint eye;
     std::vector<PlanePoint> targets;
-    double heading = 3.2 * u(rng), px = eye.x + 4 * u(rng), py = eye.y + 4 * u(rng);
-    const double turn = 0.05 * u(rng) * (k % 3 == 0 ? 0.0 : 1.0), start = 5 + 250 * unit(rng);
-    px += start * std::cos(heading), py += start * std::sin(heading);
-    for (int j = 0, n = size(rng); j < n; ++j) {
-      targets.push_back({px, py});
-      heading += turn;
-      px += 5 * std::cos(heading), py += 5 * std::sin(heading);
-    }
+    random_fan_road(rng, k, eye, targets);
     sd::Fan fan;
     fan.reset(eye, targets);
     for (int e = 0; e < 60; ++e) {
