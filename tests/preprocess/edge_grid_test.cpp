@@ -718,6 +718,92 @@ TEST(FanClear, GridCellsOfAPolygonHoldEveryCellOfItsLines) {
   EXPECT_GT(lines_checked, 2000u);
 }
 
+/// The cells EdgeGrid::any_in_polygon visits, as it found them before its sides were taken
+/// row range by row range: each row tries every side (the reference the walk must equal).
+Cells reference_polygon_cells(const std::vector<PlanePoint>& polygon, double margin_m) {
+  constexpr double kCellM = 16.0;
+  const double m = margin_m / kCellM + 1e-6;
+  double y_min = polygon[0].y / kCellM, y_max = y_min;
+  for (const PlanePoint& p : polygon) {
+    y_min = std::min(y_min, p.y / kCellM), y_max = std::max(y_max, p.y / kCellM);
+  }
+  Cells out;
+  for (auto row = static_cast<std::int64_t>(std::floor(y_min - m));
+       row <= static_cast<std::int64_t>(std::floor(y_max + m)); ++row) {
+    const double lo = double(row) - m, hi = double(row + 1) + m;
+    double x0 = std::numeric_limits<double>::infinity(), x1 = -x0;
+    for (std::size_t i = 0; i < polygon.size(); ++i) {
+      const PlanePoint& pa = polygon[i];
+      const PlanePoint& pb = polygon[(i + 1) % polygon.size()];
+      const double ax = pa.x / kCellM, ay = pa.y / kCellM, bx = pb.x / kCellM, by = pb.y / kCellM;
+      if (std::max(ay, by) < lo || std::min(ay, by) > hi) continue;
+      double ex0 = std::min(ax, bx), ex1 = std::max(ax, bx);
+      if (by != ay) {
+        const double inverse_height = 1.0 / (by - ay);
+        const double t0 = std::clamp((lo - ay) * inverse_height, 0.0, 1.0);
+        const double t1 = std::clamp((hi - ay) * inverse_height, 0.0, 1.0);
+        ex0 = ax + t0 * (bx - ax), ex1 = ax + t1 * (bx - ax);
+        if (ex0 > ex1) std::swap(ex0, ex1);
+      }
+      x0 = std::min(x0, ex0), x1 = std::max(x1, ex1);
+    }
+    if (!(x0 <= x1)) continue;
+    for (auto c = static_cast<std::int64_t>(std::floor(x0 - m));
+         c <= static_cast<std::int64_t>(std::floor(x1 + m)); ++c) {
+      out.emplace_back(c, row);
+    }
+  }
+  return out;
+}
+
+TEST(FanClear, PolygonCellsAreThoseOfEveryRowTryingEverySide) {
+  // Random fans' hulls (and a few with sides along and vertices on cell boundaries), over a grid
+  // with one edge in every cell near them: any_in_polygon offers exactly the edges of the
+  // reference's cells, in its order.
+  std::mt19937_64 rng(41);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const double x0 = 731232.0, y0 = 4849872.0;  // a cell corner
+  std::vector<rp::ObstacleEdge> edges;
+  for (int r = -90; r < 90; ++r) {
+    for (int c = -90; c < 90; ++c) {  // a short edge inside each cell of 1.4 km around (x0, y0)
+      const double x = x0 + 16.0 * c + 8, y = y0 + 16.0 * r + 8;
+      edges.push_back(edge(x, y, x + 1, y + 1));
+    }
+  }
+  const sd::EdgeGrid grid(edges);
+  const auto cell_of = [&](std::uint32_t i) {
+    return std::pair{static_cast<std::int64_t>(std::floor(edges[i].a.x / 16.0)),
+                     static_cast<std::int64_t>(std::floor(edges[i].a.y / 16.0))};
+  };
+  std::size_t cells = 0;
+  for (int k = 0; k < 600; ++k) {
+    std::vector<PlanePoint> hull;
+    if (k % 4 == 0) {  // vertices on cell corners and sides along cell boundaries
+      const auto on = [&] { return 16.0 * std::round(20 * u(rng)); };
+      const PlanePoint a{x0 + on(), y0 + on()};
+      hull = sd::convex_hull({a, {a.x + 64, a.y}, {a.x + 64, a.y + on()}, {a.x + on(), a.y + 48}});
+    } else {
+      PlanePoint eye;
+      std::vector<PlanePoint> targets;
+      random_fan_road(rng, k, eye, targets);  // scaled by 1/4 towards (x0, y0): inside the grid
+      eye = {x0 + (eye.x - 731234.56) / 4, y0 + (eye.y - 4849876.54) / 4};
+      for (PlanePoint& t : targets) t = {x0 + (t.x - 731234.56) / 4, y0 + (t.y - 4849876.54) / 4};
+      sd::Fan fan;
+      fan.reset(eye, targets);
+      hull = fan.hull();
+    }
+    Cells offered_cells;
+    grid.any_in_polygon(hull, sd::Fan::kMarginM, [&](std::uint32_t i) {
+      offered_cells.push_back(cell_of(i));
+      return false;
+    });
+    const Cells expected = reference_polygon_cells(hull, sd::Fan::kMarginM);
+    ASSERT_EQ(offered_cells, expected) << k;
+    cells += expected.size();
+  }
+  EXPECT_GT(cells, 6000u);
+}
+
 TEST(FanClear, TriangleFastPathIsTheHull) {
   // Two targets and the eye that certainly turn: the triangle, counter-clockwise, whichever
   // way round the targets come; collinear ones go through convex_hull (all three kept: the

@@ -200,13 +200,21 @@ class EdgeGrid {
       y_min = std::min(y_min, ay), y_max = std::max(y_max, ay);
     }
     const std::int64_t first_row = floor_to_int(y_min - m), last_row = floor_to_int(y_max + m);
-    for (std::int64_t row = first_row; row <= last_row; ++row) {
-      // The polygon's x extent in the strip of rows lo..hi: attained on its boundary, so the
-      // union of its edges' parts in the strip (a single vertex: the vertex).
-      const double lo = double(row) - m, hi = double(row + 1) + m;
-      double x0 = std::numeric_limits<double>::infinity(), x1 = -x0;
-      for (const Side& side : sides) {
-        const double ax = side.ax, ay = side.ay, bx = side.bx, by = side.by;
+    // The polygon's x extent in the strip of each row, lo..hi = row - m..row + 1 + m: attained
+    // on its boundary, so the union of its sides' parts in the strip (a single vertex: the
+    // vertex). Side by side over the rows it may reach (one more each way than its own y range
+    // widened by m: rounding moves the test below by ~1e-16 of a row), each row asked as if
+    // every side were tried in it; min and max are exact, so the order does not matter.
+    const auto rows = static_cast<std::size_t>(last_row - first_row + 1);
+    thread_local std::vector<double> row_x0, row_x1;
+    row_x0.assign(rows, std::numeric_limits<double>::infinity());
+    row_x1.assign(rows, -std::numeric_limits<double>::infinity());
+    for (const Side& side : sides) {
+      const double ax = side.ax, ay = side.ay, bx = side.bx, by = side.by;
+      const std::int64_t from = std::max(first_row, floor_to_int(std::min(ay, by) - m) - 1);
+      const std::int64_t to = std::min(last_row, floor_to_int(std::max(ay, by) + m) + 1);
+      for (std::int64_t row = from; row <= to; ++row) {
+        const double lo = double(row) - m, hi = double(row + 1) + m;
         if (std::max(ay, by) < lo || std::min(ay, by) > hi) continue;
         double ex0 = std::min(ax, bx), ex1 = std::max(ax, bx);
         if (by != ay) {
@@ -215,8 +223,13 @@ class EdgeGrid {
           ex0 = ax + t0 * (bx - ax), ex1 = ax + t1 * (bx - ax);
           if (ex0 > ex1) std::swap(ex0, ex1);
         }
-        x0 = std::min(x0, ex0), x1 = std::max(x1, ex1);
+        const auto at = static_cast<std::size_t>(row - first_row);
+        row_x0[at] = std::min(row_x0[at], ex0), row_x1[at] = std::max(row_x1[at], ex1);
       }
+    }
+    for (std::int64_t row = first_row; row <= last_row; ++row) {
+      const double x0 = row_x0[static_cast<std::size_t>(row - first_row)];
+      const double x1 = row_x1[static_cast<std::size_t>(row - first_row)];
       if (!(x0 <= x1)) continue;  // the widened y range's end rows may hold no part
       const std::int64_t c0 = floor_to_int(x0 - m), c1 = floor_to_int(x1 + m);
       bool looked_up = false;
