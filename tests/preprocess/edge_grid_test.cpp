@@ -804,6 +804,46 @@ TEST(FanClear, PolygonCellsAreThoseOfEveryRowTryingEverySide) {
   EXPECT_GT(cells, 6000u);
 }
 
+TEST(FanClear, ReachesAllOfVouchesForTheReachTestsOfEveryOfferedEdge) {
+  // Random fans over random edges (some long): wherever reaches_all_of says so, edge_apart of
+  // every edge any_in_polygon offers is separated_from; it says no for a fan whose reach or
+  // whose grid's longest edge leaves no room under half of the 100 km.
+  std::mt19937_64 rng(43);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const double x0 = 731234.56, y0 = 4849876.54;
+  std::vector<rp::ObstacleEdge> edges;
+  for (int i = 0; i < 4000; ++i) {
+    const double x = x0 + 1400 * u(rng), y = y0 + 1400 * u(rng), len = i % 50 == 0 ? 2000 : 30;
+    edges.push_back(edge(x, y, x + len * u(rng), y + len * u(rng)));
+  }
+  const sd::EdgeGrid grid(edges);
+  EXPECT_GT(grid.longest_edge_m(), 1000.0);
+  std::size_t offered = 0, apart = 0;
+  for (int k = 0; k < 300; ++k) {
+    PlanePoint eye;
+    std::vector<PlanePoint> targets;
+    random_fan_road(rng, k, eye, targets);
+    sd::Fan fan;
+    fan.reset(eye, targets);
+    ASSERT_TRUE(fan.reaches_all_of(grid.longest_edge_m(), sd::EdgeGrid::kCellM)) << k;
+    grid.any_in_polygon(fan.hull(), sd::Fan::kMarginM, [&](std::uint32_t i) {
+      ++offered;
+      const bool separated = fan.separated_from(edges[i].a, edges[i].b);
+      EXPECT_EQ(fan.edge_apart(edges[i].a, edges[i].b), separated) << k << " " << i;
+      apart += separated ? 1 : 0;
+      return false;
+    });
+  }
+  EXPECT_GT(offered, 2000u);
+  EXPECT_GT(apart, offered / 4);
+  EXPECT_LT(apart, offered);
+  // 30 km of reach plus 20 km of edge is half of kFarM: no longer vouched for.
+  sd::Fan far;
+  far.reset({x0, y0}, {{x0 + 30000, y0}, {x0 + 30000, y0 + 5}});
+  EXPECT_TRUE(far.reaches_all_of(19000.0, sd::EdgeGrid::kCellM));
+  EXPECT_FALSE(far.reaches_all_of(20000.0, sd::EdgeGrid::kCellM));
+}
+
 TEST(FanClear, TriangleFastPathIsTheHull) {
   // Two targets and the eye that certainly turn: the triangle, counter-clockwise, whichever
   // way round the targets come; collinear ones go through convex_hull (all three kept: the

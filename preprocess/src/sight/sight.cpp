@@ -294,16 +294,25 @@ class Scene {
     outline.pop_back();
     std::array<std::uint32_t, 64> judged;  // most edges judged once, as in fan_candidates
     judged.fill(std::numeric_limits<std::uint32_t>::max());
-    return grid_.any_in_polygon(fan.hull(), Fan::kMarginM, [&](std::uint32_t i) {
-      std::uint32_t& slot = judged[i & 63];
-      if (slot == i) return false;
-      slot = i;
-      const PlanePoint a = edges_.a(i), b = edges_.b(i);
-      if (fan.edge_apart(a, b)) return false;
-      if (!out) return true;
-      out->push_back({a, b, i, {}});
-      return false;
-    });
+    const auto offered = [&](auto apart) ROADCROSS_INLINE {
+      return grid_.any_in_polygon(fan.hull(), Fan::kMarginM, [&](std::uint32_t i) {
+        std::uint32_t& slot = judged[i & 63];
+        if (slot == i) return false;
+        slot = i;
+        const PlanePoint a = edges_.a(i), b = edges_.b(i);
+        if (apart(a, b)) return false;
+        if (!out) return true;
+        out->push_back({a, b, i, {}});
+        return false;
+      });
+    };
+    // Almost always: every edge offered is within reach (edge_apart's own tests, not repeated).
+    if (fan.reaches_all_of(grid_.longest_edge_m(), EdgeGrid::kCellM)) {
+      return offered([&](const PlanePoint& a, const PlanePoint& b)
+                         ROADCROSS_INLINE { return fan.separated_from(a, b); });
+    }
+    return offered([&](const PlanePoint& a, const PlanePoint& b)
+                       ROADCROSS_INLINE { return fan.edge_apart(a, b); });
   }
 
   /// Edge i's opaque band above the ground.

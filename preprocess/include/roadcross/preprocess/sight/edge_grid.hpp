@@ -249,6 +249,8 @@ class EdgeGrid {
   }
 
   std::size_t tiles() const { return begins_.size() / kTileCells; }
+  /// The largest |b - a|1 of the edges filed, metres (NaN-free inputs; 0 without edges).
+  double longest_edge_m() const { return longest_edge_m_; }
   /// (edge, cell) pairs filed.
   std::size_t entries() const { return edges_.size(); }
 
@@ -269,6 +271,8 @@ class EdgeGrid {
     PlanePoint from, to;
     for (std::size_t i = 0; i < ids; ++i) {
       if (!ends(i, from, to)) continue;
+      longest_edge_m_ =
+          std::max(longest_edge_m_, std::abs(to.x - from.x) + std::abs(to.y - from.y));
       for_cells_along(from, to, kCellM, [&](std::int64_t c, std::int64_t r) {
         ++begins_[cell_index(c, r)];  // the count, for now
         return false;
@@ -343,6 +347,7 @@ class EdgeGrid {
   /// one sentinel at the end.
   std::vector<std::uint32_t> begins_;
   std::vector<std::uint32_t> edges_;  ///< edge indices, cell by cell
+  double longest_edge_m_ = 0.0;
 };
 
 /// Sorts the edges by the tile and then the cell of their first end (both row by row), so that

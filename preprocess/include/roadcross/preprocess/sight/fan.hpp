@@ -191,6 +191,22 @@ class Fan {
     return separated(ra, rb);
   }
 
+  /// True when edge_apart's reach tests (near_, both ends within kFarM of the eye) pass for
+  /// every edge EdgeGrid::any_in_polygon offers for hull() on `grid`: then edge_apart(a, b) is
+  /// separated_from(a, b). Why: an offered edge is filed in a visited cell, so it passes within
+  /// 1e-6 of a cell of that cell; each visited cell lies within one cell and the margin (in x)
+  /// and one cell and twice the margin (in y) of a point of the hull, which is within reach_m_
+  /// of the eye (|.|1, largest at a vertex). So each end is within reach_m_ + 2 cells (|.|1,
+  /// 32 m plus a hair) + the longest edge of the eye; asking for half of kFarM leaves the
+  /// rounding of the ends' differences (~1e-9 m) far behind.
+  bool reaches_all_of(double longest_edge_m, double cell_m) const {
+    return near_ && reach_m_ + 4 * cell_m + longest_edge_m < kFarM / 2;
+  }
+  /// edge_apart(a, b) without its reach tests, for an edge reaches_all_of vouches for.
+  bool separated_from(const PlanePoint& a, const PlanePoint& b) const {
+    return separated({a.x - eye_.x, a.y - eye_.y}, {b.x - eye_.x, b.y - eye_.y});
+  }
+
  private:
   /// The part of edge_clear that depends on the eye (ra, rb: the edge's ends relative to it):
   /// both ends and the targets within reach of the proof's bounds, and |q x s| above its bound
