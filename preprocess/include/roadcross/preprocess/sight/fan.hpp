@@ -160,12 +160,15 @@ class Fan {
       const PlanePoint n{-(b.y - a.y), b.x - a.x};
       if (n.x != 0.0 || n.y != 0.0) axes_.push_back(Axis{n, std::abs(n.x) + std::abs(n.y)});
     }
-    // (Insertion sort, stable: a few axes, mostly three.)
-    for (std::size_t i = 1; i < axes_.size(); ++i) {
-      const Axis axis = axes_[i];
-      std::size_t j = i;
-      for (; j > 0 && axes_[j - 1].size < axis.size; --j) axes_[j] = axes_[j - 1];
-      axes_[j] = axis;
+    // The two longest to the front (a wedge's two long sides; the order of the rest does not
+    // matter, nor does any order change an answer: an edge is separated when any axis separates
+    // it).
+    for (std::size_t front = 0; front < 2 && front + 1 < axes_.size(); ++front) {
+      std::size_t longest = front;
+      for (std::size_t i = front + 1; i < axes_.size(); ++i) {
+        if (axes_[i].size > axes_[longest].size) longest = i;
+      }
+      if (longest != front) std::swap(axes_[front], axes_[longest]);
     }
     axes_.push_back(Axis{{1.0, 0.0}, 1.0});
     axes_.push_back(Axis{{0.0, 1.0}, 1.0});
