@@ -770,6 +770,11 @@ TEST(FanClear, PolygonCellsAreThoseOfEveryRowTryingEverySide) {
       edges.push_back(edge(x, y, x + 1, y + 1));
     }
   }
+  for (int r = -40; r < 40; ++r) {
+    for (int c = -40; c < 40; ++c) {  // and around (0, 0): cells and tiles of both signs
+      edges.push_back(edge(16.0 * c + 3, 16.0 * r + 5, 16.0 * c + 4, 16.0 * r + 6));
+    }
+  }
   const sd::EdgeGrid grid(edges);
   const auto cell_of = [&](std::uint32_t i) {
     return std::pair{static_cast<std::int64_t>(std::floor(edges[i].a.x / 16.0)),
@@ -778,7 +783,15 @@ TEST(FanClear, PolygonCellsAreThoseOfEveryRowTryingEverySide) {
   std::size_t cells = 0;
   for (int k = 0; k < 600; ++k) {
     std::vector<PlanePoint> hull;
-    if (k % 4 == 0) {  // vertices on cell corners and sides along cell boundaries
+    if (k % 4 == 3) {  // around (0, 0), 1-600 m across
+      PlanePoint eye;
+      std::vector<PlanePoint> targets;
+      random_fan_road(rng, k, eye, targets);
+      const double scale = 0.02 + 0.5 * std::abs(u(rng));
+      for (PlanePoint& t : targets) t = {(t.x - eye.x) * scale, (t.y - eye.y) * scale};
+      targets.push_back({-200 * scale * std::abs(u(rng)), 50 * u(rng)});
+      hull = sd::convex_hull(targets);
+    } else if (k % 4 == 0) {  // vertices on cell corners and sides along cell boundaries
       const auto on = [&] { return 16.0 * std::round(20 * u(rng)); };
       const PlanePoint a{x0 + on(), y0 + on()};
       hull = sd::convex_hull({a, {a.x + 64, a.y}, {a.x + 64, a.y + on()}, {a.x + on(), a.y + 48}});

@@ -232,17 +232,20 @@ class EdgeGrid {
       const double x1 = row_x1[static_cast<std::size_t>(row - first_row)];
       if (!(x0 <= x1)) continue;  // the widened y range's end rows may hold no part
       const std::int64_t c0 = floor_to_int(x0 - m), c1 = floor_to_int(x1 + m);
-      bool looked_up = false;
-      std::uint64_t tile_key = 0;
-      const std::uint32_t* begins = nullptr;
-      for (std::int64_t c = c0; c <= c1; ++c) {
-        const std::uint64_t k = key(c >> kTileShift, row >> kTileShift);
-        if (!looked_up || k != tile_key) looked_up = true, tile_key = k, begins = tile_begins(k);
-        if (!begins) continue;
-        const std::size_t cell = cell_in_tile(c, row);
-        for (std::uint32_t e = begins[cell]; e < begins[cell + 1]; ++e) {
-          if (test(edges_[e])) return true;
+      // The row's cells tile by tile: within a tile a row's cells are consecutive in its table,
+      // each one's edges beginning where the one before ends, so the edges of the row's cells
+      // there are one run (the same edges in the same order as cell by cell, without a look at
+      // each empty cell).
+      for (std::int64_t c = c0; c <= c1;) {
+        const std::int64_t last = std::min(c1, c | (kTileSide - 1));  // in this tile
+        const std::uint32_t* begins = tile_begins(key(c >> kTileShift, row >> kTileShift));
+        if (begins) {
+          const std::uint32_t end = begins[cell_in_tile(last, row) + 1];
+          for (std::uint32_t e = begins[cell_in_tile(c, row)]; e < end; ++e) {
+            if (test(edges_[e])) return true;
+          }
         }
+        c = last + 1;
       }
     }
     return false;
