@@ -11,6 +11,8 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <span>
+#include <stdexcept>
 #include <thread>
 #include <utility>
 #include <vector>
@@ -166,11 +168,11 @@ std::vector<std::array<PlanePoint, 2>> leaving_directions(const RoadGraph& graph
 /// (unit), other than the piece end it arrived through; nullptr at a dead end. Ties go to the
 /// lower piece index, so the choice is deterministic.
 const Incidence* continuation(const std::vector<std::array<PlanePoint, 2>>& leaving,
-                              const Incidences& incidences, std::int64_t node,
-                              const Incidence& arrived, const PlanePoint& heading) {
+                              std::span<const Incidence> at_node, const Incidence& arrived,
+                              const PlanePoint& heading) {
   const Incidence* best = nullptr;
   double best_cos = -2.0;
-  for (const Incidence& c : incidences.at(node)) {
+  for (const Incidence& c : at_node) {
     if (c.piece == arrived.piece && c.at_end == arrived.at_end) continue;
     const PlanePoint d = leaving[c.piece][c.at_end ? 1 : 0];
     const double cos = d.x * heading.x + d.y * heading.y;
@@ -205,10 +207,32 @@ PlanePoint last_heading(const Path& path) {
           (path.points[n - 1].y - path.points[n - 2].y) / len};
 }
 
+/// Where each piece end's node is in `incidences` ([piece][at_end], Incidences::index_of;
+/// kNoNode for a node that is not a graph node), found once instead of at every hop of every
+/// path.
+constexpr std::uint32_t kNoNode = std::numeric_limits<std::uint32_t>::max();
+std::vector<std::array<std::uint32_t, 2>> end_nodes(const RoadGraph& graph,
+                                                    const Incidences& incidences) {
+  if (incidences.node_count() >= kNoNode) {
+    throw std::length_error("sight: more than 2^32 - 2 graph nodes");
+  }
+  const auto index = [&](std::int64_t node) {
+    const std::size_t i = incidences.index_of(node);
+    return i == Incidences::npos ? kNoNode : static_cast<std::uint32_t>(i);
+  };
+  std::vector<std::array<std::uint32_t, 2>> out;
+  out.reserve(graph.pieces.size());
+  for (const RoadPiece& piece : graph.pieces) {
+    out.push_back({index(piece.from_node_id), index(piece.to_node_id)});
+  }
+  return out;
+}
+
 /// The road from position pos_m of `piece` in one direction, continued through graph nodes
 /// onto the straightest continuation, until it is `range_m` long or reaches a dead end; into
-/// `path` (its buffers are reused from segment to segment).
+/// `path` (its buffers are reused from segment to segment). nodes: end_nodes.
 void follow_road(const RoadGraph& graph, const Incidences& incidences,
+                 const std::vector<std::array<std::uint32_t, 2>>& nodes,
                  const std::vector<std::vector<double>>& cumulative,
                  const std::vector<std::array<PlanePoint, 2>>& leaving, std::size_t piece,
                  double pos_m, bool towards_end, double range_m, Path& path) {
@@ -225,9 +249,10 @@ void follow_road(const RoadGraph& graph, const Incidences& incidences,
   // A ring of pieces shorter than the range is walked round again; the bound stops a ring of
   // zero-length pieces.
   for (std::size_t hops = 0; path.length_m() < range_m && hops < 10000; ++hops) {
-    const RoadPiece& at = graph.pieces[arrived.piece];
-    const std::int64_t node = arrived.at_end ? at.to_node_id : at.from_node_id;
-    const Incidence* next = continuation(leaving, incidences, node, arrived, last_heading(path));
+    const std::uint32_t node = nodes[arrived.piece][arrived.at_end ? 1 : 0];
+    const std::span<const Incidence> at_node =
+        node == kNoNode ? std::span<const Incidence>() : incidences.at_index(node);
+    const Incidence* next = continuation(leaving, at_node, arrived, last_heading(path));
     if (!next) break;
     const RoadPiece& p = graph.pieces[next->piece];
     // Entering at its from-node walks it towards its end, and the other way round.
@@ -752,6 +777,7 @@ double required_sight_m(const RoadGraph& graph, const Segment& s, const SightPar
 struct Context {
   const RoadGraph& graph;
   const Incidences incidences;
+  const std::vector<std::array<std::uint32_t, 2>> nodes;  ///< end_nodes
   const std::vector<std::vector<double>> cumulative;
   const std::vector<std::array<PlanePoint, 2>> leaving;  ///< leaving_directions
   const Scene& scene;
@@ -798,9 +824,9 @@ void sight_of_segment(const Context& c, Segment& s, SightThread& t) {
       std::clamp(c.graph.offset_in_piece_m(s) + 0.5 * c.graph.length_m(s), 0.0, cum.back());
   const Path& ahead = t.ahead;
   const Path& behind = t.behind;
-  follow_road(c.graph, c.incidences, c.cumulative, c.leaving, s.piece_index, pos_m, true,
+  follow_road(c.graph, c.incidences, c.nodes, c.cumulative, c.leaving, s.piece_index, pos_m, true,
               c.p.range_m, t.ahead);
-  follow_road(c.graph, c.incidences, c.cumulative, c.leaving, s.piece_index, pos_m, false,
+  follow_road(c.graph, c.incidences, c.nodes, c.cumulative, c.leaving, s.piece_index, pos_m, false,
               c.p.range_m, t.behind);
   const std::size_t leg = leg_at(cum, pos_m);
   const PlanePoint& a = piece.points[leg];
@@ -868,8 +894,15 @@ SightReport compute_sight(RoadGraph& graph, const Grid* terrain, const ObstacleE
   std::vector<std::vector<double>> cumulative;
   cumulative.reserve(graph.pieces.size());
   for (const RoadPiece& piece : graph.pieces) cumulative.push_back(cumulative_m(piece.points));
-  const Context context{
-      graph, incidences_of(graph), std::move(cumulative), leaving_directions(graph), scene, p};
+  Incidences incidences = incidences_of(graph);
+  std::vector<std::array<std::uint32_t, 2>> nodes = end_nodes(graph, incidences);
+  const Context context{graph,
+                        std::move(incidences),
+                        std::move(nodes),
+                        std::move(cumulative),
+                        leaving_directions(graph),
+                        scene,
+                        p};
 
   // Dense streets take much longer than open roads: threads take small chunks in turn.
   constexpr std::size_t kChunk = 64;
