@@ -206,9 +206,16 @@ class EdgeGrid {
     // widened by m: rounding moves the test below by ~1e-16 of a row), each row asked as if
     // every side were tried in it; min and max are exact, so the order does not matter.
     const auto rows = static_cast<std::size_t>(last_row - first_row + 1);
-    thread_local std::vector<double> row_x0, row_x1;
-    row_x0.assign(rows, std::numeric_limits<double>::infinity());
-    row_x1.assign(rows, -std::numeric_limits<double>::infinity());
+    struct Extent {
+      double x0, x1;
+    };
+    thread_local std::vector<Extent> extents;
+    if (extents.size() < rows) extents.resize(rows);
+    Extent* const extent = extents.data();
+    for (std::size_t i = 0; i < rows; ++i) {
+      extent[i] = {std::numeric_limits<double>::infinity(),
+                   -std::numeric_limits<double>::infinity()};
+    }
     for (const Side& side : sides) {
       const double ax = side.ax, ay = side.ay, bx = side.bx, by = side.by;
       const std::int64_t from = std::max(first_row, floor_to_int(std::min(ay, by) - m) - 1);
@@ -224,12 +231,11 @@ class EdgeGrid {
           if (ex0 > ex1) std::swap(ex0, ex1);
         }
         const auto at = static_cast<std::size_t>(row - first_row);
-        row_x0[at] = std::min(row_x0[at], ex0), row_x1[at] = std::max(row_x1[at], ex1);
+        extent[at] = {std::min(extent[at].x0, ex0), std::max(extent[at].x1, ex1)};
       }
     }
     for (std::int64_t row = first_row; row <= last_row; ++row) {
-      const double x0 = row_x0[static_cast<std::size_t>(row - first_row)];
-      const double x1 = row_x1[static_cast<std::size_t>(row - first_row)];
+      const auto [x0, x1] = extent[static_cast<std::size_t>(row - first_row)];
       if (!(x0 <= x1)) continue;  // the widened y range's end rows may hold no part
       const std::int64_t c0 = floor_to_int(x0 - m), c1 = floor_to_int(x1 + m);
       // The row's cells tile by tile: within a tile a row's cells are consecutive in its table,
