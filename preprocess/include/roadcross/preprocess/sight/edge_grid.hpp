@@ -184,20 +184,9 @@ class EdgeGrid {
   bool any_in_polygon(const std::vector<PlanePoint>& polygon, double margin_m, Test&& test) const {
     if (edges_.empty() || polygon.empty()) return false;
     const double m = margin_m / kCellM + 1e-6;  // in cells; 1e-6: for_cells_along's slack
-    // The polygon's sides in cells, each with 1 / its height (a multiplication per row instead
-    // of a division: the rounding differs by 1e-16, far inside the margin).
-    struct Side {
-      double ax, ay, bx, by, inverse_height;
-    };
-    thread_local std::vector<Side> sides;
-    sides.clear();
     double y_min = polygon[0].y / kCellM, y_max = y_min;
-    for (std::size_t i = 0; i < polygon.size(); ++i) {
-      const PlanePoint& pa = polygon[i];
-      const PlanePoint& pb = polygon[i + 1 < polygon.size() ? i + 1 : 0];
-      const double ay = pa.y / kCellM, by = pb.y / kCellM;
-      sides.push_back({pa.x / kCellM, ay, pb.x / kCellM, by, by != ay ? 1.0 / (by - ay) : 0.0});
-      y_min = std::min(y_min, ay), y_max = std::max(y_max, ay);
+    for (const PlanePoint& p : polygon) {
+      y_min = std::min(y_min, p.y / kCellM), y_max = std::max(y_max, p.y / kCellM);
     }
     const std::int64_t first_row = floor_to_int(y_min - m), last_row = floor_to_int(y_max + m);
     // The polygon's x extent in the strip of each row, lo..hi = row - m..row + 1 + m: attained
@@ -216,8 +205,13 @@ class EdgeGrid {
       extent[i] = {std::numeric_limits<double>::infinity(),
                    -std::numeric_limits<double>::infinity()};
     }
-    for (const Side& side : sides) {
-      const double ax = side.ax, ay = side.ay, bx = side.bx, by = side.by;
+    for (std::size_t i = 0; i < polygon.size(); ++i) {
+      // The side in cells, with 1 / its height (a multiplication per row instead of a division:
+      // the rounding differs by 1e-16, far inside the margin).
+      const PlanePoint& pa = polygon[i];
+      const PlanePoint& pb = polygon[i + 1 < polygon.size() ? i + 1 : 0];
+      const double ax = pa.x / kCellM, ay = pa.y / kCellM, bx = pb.x / kCellM, by = pb.y / kCellM;
+      const double inverse_height = by != ay ? 1.0 / (by - ay) : 0.0;
       const std::int64_t from = std::max(first_row, floor_to_int(std::min(ay, by) - m) - 1);
       const std::int64_t to = std::min(last_row, floor_to_int(std::max(ay, by) + m) + 1);
       for (std::int64_t row = from; row <= to; ++row) {
@@ -225,8 +219,8 @@ class EdgeGrid {
         if (std::max(ay, by) < lo || std::min(ay, by) > hi) continue;
         double ex0 = std::min(ax, bx), ex1 = std::max(ax, bx);
         if (by != ay) {
-          const double t0 = std::clamp((lo - ay) * side.inverse_height, 0.0, 1.0);
-          const double t1 = std::clamp((hi - ay) * side.inverse_height, 0.0, 1.0);
+          const double t0 = std::clamp((lo - ay) * inverse_height, 0.0, 1.0);
+          const double t1 = std::clamp((hi - ay) * inverse_height, 0.0, 1.0);
           ex0 = ax + t0 * (bx - ax), ex1 = ax + t1 * (bx - ax);
           if (ex0 > ex1) std::swap(ex0, ex1);
         }
