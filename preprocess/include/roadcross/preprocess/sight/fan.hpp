@@ -195,13 +195,15 @@ class Fan {
   }
 
   /// True when edge_apart's reach tests (near_, both ends within kFarM of the eye) pass for
-  /// every edge EdgeGrid::any_in_polygon offers for hull() on `grid`: then edge_apart(a, b) is
-  /// separated_from(a, b). Why: an offered edge is filed in a visited cell, so it passes within
-  /// 1e-6 of a cell of that cell; each visited cell lies within one cell and the margin (in x)
-  /// and one cell and twice the margin (in y) of a point of the hull, which is within reach_m_
-  /// of the eye (|.|1, largest at a vertex). So each end is within reach_m_ + 2 cells (|.|1,
-  /// 32 m plus a hair) + the longest edge of the eye; asking for half of kFarM leaves the
-  /// rounding of the ends' differences (~1e-9 m) far behind.
+  /// every edge EdgeGrid::any_in_polygon offers for hull() on a grid whose longest edge (|.|1)
+  /// is longest_edge_m and whose cells are cell_m: then edge_apart(a, b) is separated_from(a,
+  /// b). Why: an offered edge is filed in a visited cell, so it passes within 1e-6 of a cell of
+  /// that cell; a visited cell lies within one cell and the margin of a point of the hull in x
+  /// and in y (its row's strip holds hull points at every x of the row's extent), and every
+  /// point of the hull is within reach_m_ of the eye (|.|1, largest at a vertex: the eye or a
+  /// point of the outline). So both ends of the edge are within reach_m_ + 2 cells (32 m and a
+  /// hair) + longest_edge_m of the eye (|.|1); 4 cells and half of kFarM leave the rounding of
+  /// the ends' differences from the eye (~1e-9 m) far behind.
   bool reaches_all_of(double longest_edge_m, double cell_m) const {
     return near_ && reach_m_ + 4 * cell_m + longest_edge_m < kFarM / 2;
   }
