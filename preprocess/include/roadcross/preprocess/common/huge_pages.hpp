@@ -16,8 +16,8 @@ namespace roadcross::preprocess {
 void advise_huge_pages(const void* data, std::size_t bytes) noexcept;
 
 /// The same for a vector's reserved capacity.
-template <typename T>
-void advise_huge_pages(const std::vector<T>& reserved) noexcept {
+template <typename T, typename Allocator>
+void advise_huge_pages(const std::vector<T, Allocator>& reserved) noexcept {
   advise_huge_pages(reserved.data(), reserved.capacity() * sizeof(T));
 }
 
