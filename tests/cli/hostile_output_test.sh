@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # render, export and view write like the build (issue 24, docs/reliability.md): never onto a
 # device node or FIFO, never a truncated file on a full disk (the old file stays), and a view that
-# fails leaves no half-written folder. The full disk is a private 1 MiB tmpfs, unmounted on exit.
+# fails leaves no half-written folder. The full disk is a private 1 MiB tmpfs, unmounted on exit;
+# a private 6 MiB one fills during a build.
 source "$(dirname "$0")/lib.sh"
 map="$WORK/small.gpkg"
 "$ROADCROSS_BUILD" -q --osm "$ROADCROSS_TEST_DATA_DIR/context_tags.osm" -o "$map"
@@ -38,4 +39,15 @@ expect_failure "view onto a full disk" "$full/view" -- "$ROADCROSS" view --db "$
 [[ ! -e "$full/view" ]] && pass "no half-written view folder" || fail "view left $(ls -R "$full/view")"
 leftover=$(ls "$full" | grep -v -x -e map.geojson -e filler || true)
 [[ -z $leftover ]] && pass "no temporary file left" || fail "left: $leftover"
+
+# A build onto a disk that fills while the GeoPackage is written (Monaco's is 12 MB): its SQLite
+# writes go out 124 KiB a call (mapcheck/bulk_io_vfs.hpp), and a failed one is the build's error.
+small="$WORK/small"
+mkdir "$small"
+if mount -t tmpfs -o size=6m tmpfs "$small" 2>/dev/null; then
+  trap 'umount "$full" 2>/dev/null; umount "$small" 2>/dev/null; rm -rf "$WORK"' EXIT
+  expect_failure "build onto a disk that fills" "$small/monaco.gpkg" "disk is full" -- \
+    "$ROADCROSS_BUILD" -q --osm "$ROADCROSS_MAPS_DIR/monaco/monaco.osm.pbf" -o "$small/monaco.gpkg"
+  [[ -z $(ls "$small") ]] && pass "the build left nothing" || fail "the build left: $(ls "$small")"
+fi
 finish

@@ -27,8 +27,9 @@ class Statement;
 
 class Database {
  public:
-  /// Opens `path` with SQLITE_OPEN_* `flags`; throws sqlite_error naming the path.
-  Database(const std::string& path, int flags);
+  /// Opens `path` with SQLITE_OPEN_* `flags` through the VFS named `vfs` (nullptr: SQLite's
+  /// default); throws sqlite_error naming the path.
+  Database(const std::string& path, int flags, const char* vfs = nullptr);
   Database(Database&& other) noexcept : db_(other.db_) { other.db_ = nullptr; }
   Database& operator=(Database&&) = delete;
   Database(const Database&) = delete;
