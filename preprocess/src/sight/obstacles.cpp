@@ -17,6 +17,7 @@
 #include <thread>
 #include <utility>
 
+#include "roadcross/preprocess/common/id_buckets.hpp"
 #include "roadcross/preprocess/common/parallel.hpp"
 #include "roadcross/preprocess/sight/sight.hpp"
 
@@ -111,53 +112,38 @@ void ObstacleReader::ways_done() {
   // The ways' slots go after room for the cuts of their long chains, so that take_edges, writing
   // runs from slot 0, never overtakes what it has not read yet.
   for (Way& way : ways_) way.first_slot += static_cast<std::uint32_t>(cut_slots_);
-  node_slots_.resize(refs_.size());
-  std::size_t r = 0;
-  for (std::size_t w = 0; w < ways_.size(); ++w) {
-    const std::size_t end =
-        w + 1 < ways_.size() ? ways_[w + 1].first_slot : cut_slots_ + refs_.size() + ways_.size();
-    for (std::size_t slot = ways_[w].first_slot + 1; slot < end; ++slot, ++r) {
-      const auto id = static_cast<std::uint64_t>(refs_[r]);
-      node_slots_[r] = {static_cast<std::uint32_t>(id), static_cast<std::uint32_t>(id >> 32),
-                        static_cast<std::uint32_t>(slot)};
-    }
-  }
   const std::size_t slots = cut_slots_ + refs_.size() + ways_.size();
-  std::vector<std::int64_t>().swap(refs_);
+  // refs_[r] of way w is at slot r + w + 1 + cut_slots_ (its header and those of the ways
+  // before, after the cuts' room): the items are made in refs_' order, so a running way index
+  // gives each its slot. Way w's first reference is first_slot - cut_slots_ - w.
+  std::size_t w = 0;
+  const auto make_item = [&](std::size_t r) {
+    while (w + 1 < ways_.size() && r + w + 1 + cut_slots_ >= ways_[w + 1].first_slot) ++w;
+    const auto id = static_cast<std::uint64_t>(refs_[r]);
+    return NodeSlot{static_cast<std::uint32_t>(id), static_cast<std::uint32_t>(id >> 32),
+                    static_cast<std::uint32_t>(r + w + 1 + cut_slots_)};
+  };
   // By id alone: the slots of one node all get the same location, in any order.
-  std::sort(node_slots_.begin(), node_slots_.end(),
-            [](const NodeSlot& x, const NodeSlot& y) { return x.id() < y.id(); });
+  buckets_ = sort_into_id_buckets(
+      refs_, make_item, [](const NodeSlot& x) { return x.id(); }, node_slots_);
+  std::vector<std::int64_t>().swap(refs_);
   slots_.resize(slots);
   std::fill(slots_.begin(), slots_.end(), FixedSlot{kNoVertex, kNoVertex});
-  if (node_slots_.empty()) return;
-  // Buckets of ids: at most 2^20, so the shift makes the id range fit.
-  min_id_ = node_slots_.front().id();
-  const auto range = static_cast<std::uint64_t>(node_slots_.back().id() - min_id_);
-  id_shift_ = std::max(0, static_cast<int>(std::bit_width(range)) - 20);
-  bucket_begins_.assign(static_cast<std::size_t>(range >> id_shift_) + 2, 0);
-  std::size_t at = 0;
-  for (std::size_t b = 0; b < bucket_begins_.size(); ++b) {
-    while (at < node_slots_.size() &&
-           (static_cast<std::uint64_t>(node_slots_[at].id() - min_id_) >> id_shift_) < b) {
-      ++at;
-    }
-    bucket_begins_[b] = static_cast<std::uint32_t>(at);
-  }
 }
 
 void ObstacleReader::nodes_done() {
   // The ids only served the lookup in node(): the segment table and the edges come next.
   std::vector<NodeSlot>().swap(node_slots_);
-  std::vector<std::uint32_t>().swap(bucket_begins_);
+  buckets_ = IdBuckets();
 }
 
 void ObstacleReader::node(const osmium::Node& node) {
-  if (node_slots_.empty() || node.id() < min_id_ || node.id() > node_slots_.back().id()) return;
-  const std::size_t b =
-      static_cast<std::size_t>(static_cast<std::uint64_t>(node.id() - min_id_) >> id_shift_);
-  const auto end = node_slots_.begin() + bucket_begins_[b + 1];
-  auto it = std::lower_bound(node_slots_.begin() + bucket_begins_[b], end, node.id(),
-                             [](const NodeSlot& x, std::int64_t id) { return x.id() < id; });
+  const auto [first_item, end_item] = buckets_.range_of(node.id());
+  if (first_item == end_item) return;
+  const auto end = node_slots_.begin() + static_cast<std::ptrdiff_t>(end_item);
+  auto it =
+      std::lower_bound(node_slots_.begin() + static_cast<std::ptrdiff_t>(first_item), end,
+                       node.id(), [](const NodeSlot& x, std::int64_t id) { return x.id() < id; });
   if (it == end || it->id() != node.id()) return;
   const osmium::Location l = node.location();
   if (!l.valid()) return;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "roadcross/geo.hpp"
+#include "roadcross/preprocess/common/id_buckets.hpp"
 #include "roadcross/preprocess/common/parameter_spec.hpp"
 #include "roadcross/preprocess/graph/segments.hpp"
 #include "roadcross/preprocess/osm/road_network.hpp"
@@ -108,11 +109,8 @@ class ObstacleReader final : public ExtraOsmReader {
   std::size_t cut_slots_ = 0;         ///< slots the cuts of long chains add (before the ways')
   std::vector<std::int64_t> refs_;    ///< node ids of ways_ (first pass only)
   std::vector<NodeSlot> node_slots_;  ///< sorted by id; node pass only
-  /// node_slots_ of the ids in [min_id_ + (b << id_shift_), min_id_ + ((b + 1) << id_shift_))
-  /// begin at bucket_begins_[b]: a node's look-up searches one bucket (2^20 of them, 4 MB).
-  std::vector<std::uint32_t> bucket_begins_;
-  std::int64_t min_id_ = 0;
-  int id_shift_ = 0;
+  /// node_slots_' index: a node's look-up searches one bucket (at most 2^20 of them, 4 MB).
+  IdBuckets buckets_;
   /// cut_slots_ free slots, then per way a header slot and per reference a Location's (x, y);
   /// or (kReference, the slot of the node's first reference); or kNoVertex twice when the node
   /// is not in the file (obstacles.cpp). take_edges() turns them into ObstacleEdges' slots.
