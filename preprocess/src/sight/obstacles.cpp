@@ -44,43 +44,75 @@ namespace {
 constexpr std::int32_t kReference = std::numeric_limits<std::int32_t>::min();
 constexpr std::int32_t kNoVertex = std::numeric_limits<std::int32_t>::min() + 1;
 
-/// A height from `height_key`, else `levels_key` times the level height; NaN when neither.
-double tagged_height_m(const osmium::TagList& tags, const char* height_key, const char* levels_key,
-                       double level_height_m) {
-  if (const char* h = tags[height_key]) {
-    const double m = parse_height_m(h);
+/// A height from the height tag's value, else the levels' (nullptr: none) times the level
+/// height; NaN when neither reads.
+double tagged_height_m(const char* height, const char* levels, double level_height_m) {
+  if (height) {
+    const double m = parse_height_m(height);
     if (!std::isnan(m)) return m;
   }
-  if (levels_key) {
-    if (const char* levels = tags[levels_key]) {
-      const double n = parse_height_m(levels);  // a plain number
-      if (!std::isnan(n)) return n * level_height_m;
-    }
+  if (levels) {
+    const double n = parse_height_m(levels);  // a plain number
+    if (!std::isnan(n)) return n * level_height_m;
   }
   return NAN;
 }
 
 }  // namespace
 
+ObstacleTags read_obstacle_tags(const osmium::TagList& tags) noexcept {
+  // Each TagList::operator[] walks the whole list with a strcmp a tag; a way was asked for up to
+  // six keys (building, barrier, then the heights), on every way of the file.
+  ObstacleTags out;
+  const auto first = [](const char*& slot, const osmium::Tag& tag) {
+    if (!slot) slot = tag.value();
+  };
+  for (const osmium::Tag& tag : tags) {
+    const char* key = tag.key();
+    switch (key[0]) {
+      case 'b':
+        if (std::strcmp(key, "building") == 0) {
+          first(out.building, tag);
+        } else if (std::strcmp(key, "barrier") == 0) {
+          first(out.barrier, tag);
+        } else if (std::strcmp(key, "building:levels") == 0) {
+          first(out.building_levels, tag);
+        } else if (std::strcmp(key, "building:min_level") == 0) {
+          first(out.building_min_level, tag);
+        }
+        break;
+      case 'h':
+        if (std::strcmp(key, "height") == 0) first(out.height, tag);
+        break;
+      case 'm':
+        if (std::strcmp(key, "min_height") == 0) first(out.min_height, tag);
+        break;
+      default:
+        break;
+    }
+  }
+  return out;
+}
+
 void ObstacleReader::way(const osmium::Way& way) {
-  const osmium::TagList& tags = way.tags();
-  const char* building = tags["building"];
-  const char* barrier = tags["barrier"];
+  const ObstacleTags tags = read_obstacle_tags(way.tags());
+  const char* building = tags.building;
+  const char* barrier = tags.barrier;
   double top_m = NAN, bottom_m = 0.0, default_m = 0.0;
   if (building && std::strcmp(building, "no") != 0 && std::strcmp(building, "roof") != 0) {
     // A roof (fuel station, car port) is open at eye level; so is a passage under a
     // building on pillars, below its min_height.
-    top_m = tagged_height_m(tags, "height", "building:levels", p_.level_height_m);
-    bottom_m = tagged_height_m(tags, "min_height", "building:min_level", p_.level_height_m);
+    top_m = tagged_height_m(tags.height, tags.building_levels, p_.level_height_m);
+    bottom_m = tagged_height_m(tags.min_height, tags.building_min_level, p_.level_height_m);
     if (std::isnan(bottom_m)) bottom_m = 0.0;
     default_m = p_.building_height_m;
     ++report_.buildings;
   } else if (barrier && std::strcmp(barrier, "wall") == 0) {
-    top_m = tagged_height_m(tags, "height", nullptr, 0.0);
+    top_m = tagged_height_m(tags.height, nullptr, 0.0);
     default_m = p_.wall_height_m;
     ++report_.walls;
   } else if (barrier && std::strcmp(barrier, "fence") == 0) {
-    top_m = tagged_height_m(tags, "height", nullptr, 0.0);
+    top_m = tagged_height_m(tags.height, nullptr, 0.0);
     default_m = p_.fence_height_m;
     ++report_.fences;
   } else {

@@ -61,6 +61,18 @@ struct Obstacles {
 /// A height tag ("12", "12.5 m", "12m", "40 ft", "40'") in metres; NaN when unreadable.
 double parse_height_m(std::string_view text) noexcept;
 
+/// The values of the keys an obstacle way is read by (nullptr when absent; the first when a key
+/// is repeated, as osmium's TagList::operator[] gives), found in one walk over the tag list.
+struct ObstacleTags {
+  const char* building = nullptr;
+  const char* barrier = nullptr;
+  const char* height = nullptr;
+  const char* building_levels = nullptr;  ///< building:levels
+  const char* min_height = nullptr;
+  const char* building_min_level = nullptr;  ///< building:min_level
+};
+ObstacleTags read_obstacle_tags(const osmium::TagList& tags) noexcept;
+
 /// Reads building footprints (closed ways with building=*, except roof and no) and
 /// barrier=wall/fence ways in the road network's two passes: give it to read_road_network().
 /// The way pass keeps per obstacle way 12 bytes and per node reference 8 (its id). Then every
