@@ -125,3 +125,20 @@ TEST(IdBuckets, TheWholeSigned64BitRange) {
   expect_sorted_like_std_sort({hi, 0, lo, -1, 1, hi, lo, hi - 1, lo + 1}, 20);
   expect_sorted_like_std_sort({hi, lo}, 1);
 }
+
+TEST(HugePages, ReserveAndResizeKeepTheItems) {
+  // Large enough for whole 2 MiB pages inside the storage (the advice is only a hint: the
+  // contents must be the same either way).
+  std::vector<std::int64_t> items = {5, -3, 7};
+  rp::reserve_on_huge_pages(items, std::size_t{1} << 20);
+  EXPECT_GE(items.capacity(), std::size_t{1} << 20);
+  EXPECT_EQ(items, (std::vector<std::int64_t>{5, -3, 7}));
+  rp::resize_on_huge_pages(items, std::size_t{3} << 20);
+  ASSERT_EQ(items.size(), std::size_t{3} << 20);
+  EXPECT_EQ(items[0], 5);
+  EXPECT_EQ(items[1], -3);
+  EXPECT_EQ(items[2], 7);
+  EXPECT_EQ(std::count(items.begin() + 3, items.end(), 0), (std::int64_t{3} << 20) - 3);
+  rp::resize_on_huge_pages(items, 2);  // shrinking keeps the storage
+  EXPECT_EQ(items, (std::vector<std::int64_t>{5, -3}));
+}

@@ -17,6 +17,7 @@
 #include <thread>
 #include <utility>
 
+#include "roadcross/preprocess/common/huge_pages.hpp"
 #include "roadcross/preprocess/common/id_buckets.hpp"
 #include "roadcross/preprocess/common/parallel.hpp"
 #include "roadcross/preprocess/sight/sight.hpp"
@@ -130,6 +131,10 @@ void ObstacleReader::way(const osmium::Way& way) {
   }
   cut_slots_ += ObstacleEdges::slots_for_chain(k - 1) - (k + 1);
   ways_.push_back({static_cast<std::uint32_t>(refs_.size() + ways_.size()), bottom, top});
+  // Grown by doubling as push_back would, on huge pages (millions of references).
+  if (refs_.capacity() - refs_.size() < k) {
+    reserve_on_huge_pages(refs_, std::max(2 * refs_.capacity(), refs_.size() + k));
+  }
   for (const osmium::NodeRef& ref : way.nodes()) refs_.push_back(ref.ref());
 }
 
@@ -159,7 +164,7 @@ void ObstacleReader::ways_done() {
   buckets_ = sort_into_id_buckets(
       refs_, make_item, [](const NodeSlot& x) { return x.id(); }, node_slots_);
   std::vector<std::int64_t>().swap(refs_);
-  slots_.resize(slots);
+  resize_on_huge_pages(slots_, slots);
   std::fill(slots_.begin(), slots_.end(), FixedSlot{kNoVertex, kNoVertex});
 }
 

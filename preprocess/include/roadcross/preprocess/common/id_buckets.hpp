@@ -12,6 +12,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "roadcross/preprocess/common/huge_pages.hpp"
+
 namespace roadcross::preprocess {
 
 /// Bucket b holds the items whose id is in [min_id + (b << shift), min_id + ((b + 1) << shift)):
@@ -64,7 +66,7 @@ IdBuckets sort_into_id_buckets(const std::vector<std::int64_t>& ids, MakeItem&& 
   for (std::size_t b = 1; b <= buckets; ++b) out.begins[b] += out.begins[b - 1];
   // Placed through a cursor per bucket: begins[b] itself, advanced to where bucket b + 1
   // begins, so that a shift by one afterwards restores the starts (no second array).
-  table.resize(ids.size());
+  resize_on_huge_pages(table, ids.size());
   for (std::size_t i = 0; i < ids.size(); ++i)
     table[out.begins[bucket_of(ids[i])]++] = make_item(i);
   for (std::size_t b = buckets; b > 0; --b) out.begins[b] = out.begins[b - 1];
