@@ -22,7 +22,7 @@ std::string format_deg(double value) {
 double normalize_angle_rad(double angle_rad) noexcept {
   if (!std::isfinite(angle_rad)) return angle_rad;
   // remainder() gives [-pi, pi] exactly for representable inputs; fold -pi onto +pi.
-  double r = std::remainder(angle_rad, 2.0 * kPi);
+  double r = remainder_fast(angle_rad, 2.0 * kPi);
   if (r <= -kPi) r += 2.0 * kPi;
   if (r > kPi) r -= 2.0 * kPi;
   return r;

@@ -4,7 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
+#include <random>
+#include <vector>
 
 #include "roadcross/geo.hpp"
 
@@ -47,6 +51,60 @@ TEST(NormalizeAngle, FoldsMultiplesOfTwoPi) {
 
 TEST(NormalizeAngle, PassesNonFiniteThrough) {
   EXPECT_TRUE(std::isnan(geo::normalize_angle_rad(std::numeric_limits<double>::quiet_NaN())));
+}
+
+namespace {
+std::uint64_t bits_of(double v) {
+  std::uint64_t b = 0;
+  std::memcpy(&b, &v, sizeof b);
+  return b;
+}
+}  // namespace
+
+TEST(RemainderFast, BitIdenticalToStdRemainder) {
+  // Bit patterns (a -0.0 against +0.0 and every NaN's are told apart), against glibc's
+  // std::remainder: every x near a multiple and a half multiple of y, the ties among them.
+  const double two_pi = 2.0 * std::acos(-1.0);
+  const double inf = std::numeric_limits<double>::infinity();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double tiny = std::numeric_limits<double>::denorm_min();
+  const double least = std::numeric_limits<double>::min();
+  const double most = std::numeric_limits<double>::max();
+  std::vector<double> ys = {two_pi,      2.0,         1.0,   3.0,  0.1,   1e-300,
+                            4.0 * least, 3.0 * least, least, tiny, 1e300, most,
+                            most / 2,    -two_pi,     0.0,   -0.0, inf,   nan};
+  std::mt19937_64 random(27);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::size_t compared = 0;
+  for (const double y : ys) {
+    std::vector<double> xs = {0.0, -0.0, inf, -inf, nan, tiny, -tiny, most, -most};
+    for (const double k : {0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 0.25, 0.75, 1.25, 1.75}) {
+      for (const double sign : {1.0, -1.0}) {
+        const double x = sign * k * y;  // the ties, when k * y is exact
+        xs.push_back(x);
+        double up = x, down = x;
+        for (int step = 0; step < 4; ++step) {
+          up = std::nextafter(up, inf);
+          down = std::nextafter(down, -inf);
+          xs.push_back(up);
+          xs.push_back(down);
+        }
+      }
+    }
+    for (int i = 0; i < 20000; ++i) xs.push_back(3.0 * y * unit(random));
+    for (int i = 0; i < 2000; ++i) xs.push_back(std::ldexp(unit(random), -40 + i % 80));
+    for (const double x : xs) {
+      ASSERT_EQ(bits_of(geo::remainder_fast(x, y)), bits_of(std::remainder(x, y)))
+          << "x " << x << " y " << y;
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 300000u);
+  // The two cases of the fast path, by value.
+  EXPECT_EQ(geo::remainder_fast(3.0, 2.0), -1.0);  // the tie 1.5: quotient 2, the even one
+  EXPECT_EQ(geo::remainder_fast(2.9, 2.0), 0.8999999999999999);
+  EXPECT_EQ(geo::remainder_fast(-1.0, 2.0), -1.0);  // the tie 0.5: quotient 0
+  EXPECT_TRUE(std::signbit(geo::remainder_fast(-2.0, 2.0)));
 }
 
 TEST(AngleDifference, TakesTheShortWayAcrossTheSeam) {

@@ -10,6 +10,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "roadcross/geo.hpp"
 #include "roadcross/preprocess/common/errors.hpp"
 #include "roadcross/preprocess/geometry/curvature.hpp"
 #include "roadcross/preprocess/graph/strokes.hpp"
@@ -219,7 +220,7 @@ double departure_direction_rad(const RoadPiece& piece, bool from_to_end) {
 
 /// |turn| from walking direction `heading_rad` onto direction `onto_rad`, radians 0..pi.
 double turn_rad(double heading_rad, double onto_rad) {
-  const double d = std::remainder(onto_rad - heading_rad, 2.0 * std::acos(-1.0));
+  const double d = geo::remainder_fast(onto_rad - heading_rad, 2.0 * std::acos(-1.0));
   return std::abs(d);
 }
 

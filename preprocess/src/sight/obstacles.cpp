@@ -18,6 +18,7 @@
 #include <utility>
 
 #include "roadcross/preprocess/common/huge_pages.hpp"
+#include "roadcross/preprocess/common/id_buckets.hpp"
 #include "roadcross/preprocess/common/parallel.hpp"
 #include "roadcross/preprocess/sight/sight.hpp"
 
@@ -44,43 +45,75 @@ namespace {
 constexpr std::int32_t kReference = std::numeric_limits<std::int32_t>::min();
 constexpr std::int32_t kNoVertex = std::numeric_limits<std::int32_t>::min() + 1;
 
-/// A height from `height_key`, else `levels_key` times the level height; NaN when neither.
-double tagged_height_m(const osmium::TagList& tags, const char* height_key, const char* levels_key,
-                       double level_height_m) {
-  if (const char* h = tags[height_key]) {
-    const double m = parse_height_m(h);
+/// A height from the height tag's value, else the levels' (nullptr: none) times the level
+/// height; NaN when neither reads.
+double tagged_height_m(const char* height, const char* levels, double level_height_m) {
+  if (height) {
+    const double m = parse_height_m(height);
     if (!std::isnan(m)) return m;
   }
-  if (levels_key) {
-    if (const char* levels = tags[levels_key]) {
-      const double n = parse_height_m(levels);  // a plain number
-      if (!std::isnan(n)) return n * level_height_m;
-    }
+  if (levels) {
+    const double n = parse_height_m(levels);  // a plain number
+    if (!std::isnan(n)) return n * level_height_m;
   }
   return NAN;
 }
 
 }  // namespace
 
+ObstacleTags read_obstacle_tags(const osmium::TagList& tags) noexcept {
+  // Each TagList::operator[] walks the whole list with a strcmp a tag; a way was asked for up to
+  // six keys (building, barrier, then the heights), on every way of the file.
+  ObstacleTags out;
+  const auto first = [](const char*& slot, const osmium::Tag& tag) {
+    if (!slot) slot = tag.value();
+  };
+  for (const osmium::Tag& tag : tags) {
+    const char* key = tag.key();
+    switch (key[0]) {
+      case 'b':
+        if (std::strcmp(key, "building") == 0) {
+          first(out.building, tag);
+        } else if (std::strcmp(key, "barrier") == 0) {
+          first(out.barrier, tag);
+        } else if (std::strcmp(key, "building:levels") == 0) {
+          first(out.building_levels, tag);
+        } else if (std::strcmp(key, "building:min_level") == 0) {
+          first(out.building_min_level, tag);
+        }
+        break;
+      case 'h':
+        if (std::strcmp(key, "height") == 0) first(out.height, tag);
+        break;
+      case 'm':
+        if (std::strcmp(key, "min_height") == 0) first(out.min_height, tag);
+        break;
+      default:
+        break;
+    }
+  }
+  return out;
+}
+
 void ObstacleReader::way(const osmium::Way& way) {
-  const osmium::TagList& tags = way.tags();
-  const char* building = tags["building"];
-  const char* barrier = tags["barrier"];
+  const ObstacleTags tags = read_obstacle_tags(way.tags());
+  const char* building = tags.building;
+  const char* barrier = tags.barrier;
   double top_m = NAN, bottom_m = 0.0, default_m = 0.0;
   if (building && std::strcmp(building, "no") != 0 && std::strcmp(building, "roof") != 0) {
     // A roof (fuel station, car port) is open at eye level; so is a passage under a
     // building on pillars, below its min_height.
-    top_m = tagged_height_m(tags, "height", "building:levels", p_.level_height_m);
-    bottom_m = tagged_height_m(tags, "min_height", "building:min_level", p_.level_height_m);
+    top_m = tagged_height_m(tags.height, tags.building_levels, p_.level_height_m);
+    bottom_m = tagged_height_m(tags.min_height, tags.building_min_level, p_.level_height_m);
     if (std::isnan(bottom_m)) bottom_m = 0.0;
     default_m = p_.building_height_m;
     ++report_.buildings;
   } else if (barrier && std::strcmp(barrier, "wall") == 0) {
-    top_m = tagged_height_m(tags, "height", nullptr, 0.0);
+    top_m = tagged_height_m(tags.height, nullptr, 0.0);
     default_m = p_.wall_height_m;
     ++report_.walls;
   } else if (barrier && std::strcmp(barrier, "fence") == 0) {
-    top_m = tagged_height_m(tags, "height", nullptr, 0.0);
+    top_m = tagged_height_m(tags.height, nullptr, 0.0);
     default_m = p_.fence_height_m;
     ++report_.fences;
   } else {
@@ -98,6 +131,10 @@ void ObstacleReader::way(const osmium::Way& way) {
   }
   cut_slots_ += ObstacleEdges::slots_for_chain(k - 1) - (k + 1);
   ways_.push_back({static_cast<std::uint32_t>(refs_.size() + ways_.size()), bottom, top});
+  // Grown by doubling as push_back would, on huge pages (millions of references).
+  if (refs_.capacity() - refs_.size() < k) {
+    reserve_on_huge_pages(refs_, std::max(2 * refs_.capacity(), refs_.size() + k));
+  }
   for (const osmium::NodeRef& ref : way.nodes()) refs_.push_back(ref.ref());
 }
 
@@ -112,59 +149,38 @@ void ObstacleReader::ways_done() {
   // The ways' slots go after room for the cuts of their long chains, so that take_edges, writing
   // runs from slot 0, never overtakes what it has not read yet.
   for (Way& way : ways_) way.first_slot += static_cast<std::uint32_t>(cut_slots_);
-  // Both arrays below are tens of MB at city scale, written once right after: huge pages take
-  // one fault for 2 MiB (common/huge_pages.hpp).
-  node_slots_.reserve(refs_.size());
-  advise_huge_pages(node_slots_);
-  node_slots_.resize(refs_.size());
-  std::size_t r = 0;
-  for (std::size_t w = 0; w < ways_.size(); ++w) {
-    const std::size_t end =
-        w + 1 < ways_.size() ? ways_[w + 1].first_slot : cut_slots_ + refs_.size() + ways_.size();
-    for (std::size_t slot = ways_[w].first_slot + 1; slot < end; ++slot, ++r) {
-      const auto id = static_cast<std::uint64_t>(refs_[r]);
-      node_slots_[r] = {static_cast<std::uint32_t>(id), static_cast<std::uint32_t>(id >> 32),
-                        static_cast<std::uint32_t>(slot)};
-    }
-  }
   const std::size_t slots = cut_slots_ + refs_.size() + ways_.size();
-  std::vector<std::int64_t>().swap(refs_);
+  // refs_[r] of way w is at slot r + w + 1 + cut_slots_ (its header and those of the ways
+  // before, after the cuts' room): the items are made in refs_' order, so a running way index
+  // gives each its slot. Way w's first reference is first_slot - cut_slots_ - w.
+  std::size_t w = 0;
+  const auto make_item = [&](std::size_t r) {
+    while (w + 1 < ways_.size() && r + w + 1 + cut_slots_ >= ways_[w + 1].first_slot) ++w;
+    const auto id = static_cast<std::uint64_t>(refs_[r]);
+    return NodeSlot{static_cast<std::uint32_t>(id), static_cast<std::uint32_t>(id >> 32),
+                    static_cast<std::uint32_t>(r + w + 1 + cut_slots_)};
+  };
   // By id alone: the slots of one node all get the same location, in any order.
-  std::sort(node_slots_.begin(), node_slots_.end(),
-            [](const NodeSlot& x, const NodeSlot& y) { return x.id() < y.id(); });
-  slots_.reserve(slots);
-  advise_huge_pages(slots_);
-  slots_.resize(slots);
+  buckets_ = sort_into_id_buckets(
+      refs_, make_item, [](const NodeSlot& x) { return x.id(); }, node_slots_);
+  std::vector<std::int64_t>().swap(refs_);
+  resize_on_huge_pages(slots_, slots);
   std::fill(slots_.begin(), slots_.end(), FixedSlot{kNoVertex, kNoVertex});
-  if (node_slots_.empty()) return;
-  // Buckets of ids: at most 2^20, so the shift makes the id range fit.
-  min_id_ = node_slots_.front().id();
-  const auto range = static_cast<std::uint64_t>(node_slots_.back().id() - min_id_);
-  id_shift_ = std::max(0, static_cast<int>(std::bit_width(range)) - 20);
-  bucket_begins_.assign(static_cast<std::size_t>(range >> id_shift_) + 2, 0);
-  std::size_t at = 0;
-  for (std::size_t b = 0; b < bucket_begins_.size(); ++b) {
-    while (at < node_slots_.size() &&
-           (static_cast<std::uint64_t>(node_slots_[at].id() - min_id_) >> id_shift_) < b) {
-      ++at;
-    }
-    bucket_begins_[b] = static_cast<std::uint32_t>(at);
-  }
 }
 
 void ObstacleReader::nodes_done() {
   // The ids only served the lookup in node(): the segment table and the edges come next.
   std::vector<NodeSlot>().swap(node_slots_);
-  std::vector<std::uint32_t>().swap(bucket_begins_);
+  buckets_ = IdBuckets();
 }
 
 void ObstacleReader::node(const osmium::Node& node) {
-  if (node_slots_.empty() || node.id() < min_id_ || node.id() > node_slots_.back().id()) return;
-  const std::size_t b =
-      static_cast<std::size_t>(static_cast<std::uint64_t>(node.id() - min_id_) >> id_shift_);
-  const auto end = node_slots_.begin() + bucket_begins_[b + 1];
-  auto it = std::lower_bound(node_slots_.begin() + bucket_begins_[b], end, node.id(),
-                             [](const NodeSlot& x, std::int64_t id) { return x.id() < id; });
+  const auto [first_item, end_item] = buckets_.range_of(node.id());
+  if (first_item == end_item) return;
+  const auto end = node_slots_.begin() + static_cast<std::ptrdiff_t>(end_item);
+  auto it =
+      std::lower_bound(node_slots_.begin() + static_cast<std::ptrdiff_t>(first_item), end,
+                       node.id(), [](const NodeSlot& x, std::int64_t id) { return x.id() < id; });
   if (it == end || it->id() != node.id()) return;
   const osmium::Location l = node.location();
   if (!l.valid()) return;

@@ -1,5 +1,5 @@
 // Transparent huge pages for the build's large arrays. On the machines the build runs on (virtual
-// machines) a page fault costs ~13 µs, and an array of tens of MB filled once takes one fault a
+// machines) a page fault costs ~10-13 µs, and an array of tens of MB filled once takes one fault a
 // 4 KiB page; a 2 MiB page takes one fault for 512 of them (THP here is in `madvise` mode: only
 // advised memory gets them). docs/performance.md, "Build system calls and page faults (issue 27)".
 #pragma once
@@ -18,6 +18,25 @@ void advise_huge_pages(const void* data, std::size_t bytes) noexcept;
 template <typename T, typename Allocator>
 void advise_huge_pages(const std::vector<T, Allocator>& reserved) noexcept {
   advise_huge_pages(reserved.data(), reserved.capacity() * sizeof(T));
+}
+
+/// items.reserve(n), the new storage (when there is one) advised huge pages before the items
+/// are copied into it.
+template <typename T, typename Allocator>
+void reserve_on_huge_pages(std::vector<T, Allocator>& items, std::size_t n) {
+  if (n <= items.capacity()) return;
+  std::vector<T, Allocator> fresh;
+  fresh.reserve(n);
+  advise_huge_pages(fresh.data(), n * sizeof(T));
+  fresh.assign(items.begin(), items.end());
+  items.swap(fresh);
+}
+
+/// items.resize(n) on storage advised huge pages when it is newly allocated.
+template <typename T, typename Allocator>
+void resize_on_huge_pages(std::vector<T, Allocator>& items, std::size_t n) {
+  reserve_on_huge_pages(items, n);
+  items.resize(n);
 }
 
 }  // namespace roadcross::preprocess

@@ -102,7 +102,9 @@ class ExtraOsmReader {
   /// file: reading them decodes the whole file in the first pass).
   virtual void relation(const osmium::Relation& /*relation*/) {}
   virtual bool wants_relations() const { return false; }
-  /// Between the passes: e.g. sort the node ids the second pass must find.
+  /// Between the passes: e.g. sort the node ids the second pass must find. Runs on a thread of
+  /// its own, beside the road network's work between the passes and the node pass's start;
+  /// node() is first called after it has returned.
   virtual void ways_done() {}
   /// Second pass: every node of the file.
   virtual void node(const osmium::Node& node) = 0;

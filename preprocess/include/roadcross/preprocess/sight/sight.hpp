@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "roadcross/geo.hpp"
+#include "roadcross/preprocess/common/id_buckets.hpp"
 #include "roadcross/preprocess/common/parameter_spec.hpp"
 #include "roadcross/preprocess/graph/segments.hpp"
 #include "roadcross/preprocess/osm/road_network.hpp"
@@ -59,6 +60,18 @@ struct Obstacles {
 
 /// A height tag ("12", "12.5 m", "12m", "40 ft", "40'") in metres; NaN when unreadable.
 double parse_height_m(std::string_view text) noexcept;
+
+/// The values of the keys an obstacle way is read by (nullptr when absent; the first when a key
+/// is repeated, as osmium's TagList::operator[] gives), found in one walk over the tag list.
+struct ObstacleTags {
+  const char* building = nullptr;
+  const char* barrier = nullptr;
+  const char* height = nullptr;
+  const char* building_levels = nullptr;  ///< building:levels
+  const char* min_height = nullptr;
+  const char* building_min_level = nullptr;  ///< building:min_level
+};
+ObstacleTags read_obstacle_tags(const osmium::TagList& tags) noexcept;
 
 /// Reads building footprints (closed ways with building=*, except roof and no) and
 /// barrier=wall/fence ways in the road network's two passes: give it to read_road_network().
@@ -108,11 +121,8 @@ class ObstacleReader final : public ExtraOsmReader {
   std::size_t cut_slots_ = 0;         ///< slots the cuts of long chains add (before the ways')
   std::vector<std::int64_t> refs_;    ///< node ids of ways_ (first pass only)
   std::vector<NodeSlot> node_slots_;  ///< sorted by id; node pass only
-  /// node_slots_ of the ids in [min_id_ + (b << id_shift_), min_id_ + ((b + 1) << id_shift_))
-  /// begin at bucket_begins_[b]: a node's look-up searches one bucket (2^20 of them, 4 MB).
-  std::vector<std::uint32_t> bucket_begins_;
-  std::int64_t min_id_ = 0;
-  int id_shift_ = 0;
+  /// node_slots_' index: a node's look-up searches one bucket (at most 2^20 of them, 4 MB).
+  IdBuckets buckets_;
   /// cut_slots_ free slots, then per way a header slot and per reference a Location's (x, y);
   /// or (kReference, the slot of the node's first reference); or kNoVertex twice when the node
   /// is not in the file (obstacles.cpp). take_edges() turns them into ObstacleEdges' slots.
