@@ -266,7 +266,7 @@ void write_segment_rows(sqlite::Database& db, const std::string& db_path, const 
   const std::size_t total = graph.segments.size();
   // The side thread takes more than half: this thread's rows cost more (their commit writes
   // them out after the insert; the side connection's small cache writes as it goes) and it
-  // copies the side's rows after. docs/performance.md, "Build stages besides sight".
+  // copies the side's rows after. docs/performance-log.md, "Build stages besides sight".
   constexpr std::size_t kFirstRowsPerMille = 360;
   const std::size_t split = total * kFirstRowsPerMille / 1000;
   const std::string side_path = db_path + kSideRowsSuffix;

@@ -1,7 +1,7 @@
 // A SQLite VFS for the build's own connections (the GeoPackage writer, the map identity's
 // readers): the default VFS with fewer system calls. SQLite reads and writes one 4 KiB page a
-// call; on a virtual machine each call costs an exit (docs/performance.md, "Build system calls
-// and page faults (issue 27)"). This VFS
+// call; on a virtual machine each call costs an exit (docs/performance-log.md, "Build
+// system calls and page faults (issue 27)"). This VFS
 //  - keeps contiguous page writes in a buffer and writes them with one call: the buffer is written
 //    out before anything that could see the file (a sync, a lock change, a truncation, a read of
 //    those bytes, a file control but the size hint, the close) and before a write that does not

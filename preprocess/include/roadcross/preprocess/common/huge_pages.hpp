@@ -1,7 +1,8 @@
 // Transparent huge pages for the build's large arrays. On the machines the build runs on (virtual
 // machines) a page fault costs ~10-13 µs, and an array of tens of MB filled once takes one fault a
 // 4 KiB page; a 2 MiB page takes one fault for 512 of them (THP here is in `madvise` mode: only
-// advised memory gets them). docs/performance.md, "Build system calls and page faults (issue 27)".
+// advised memory gets them). docs/performance-log.md,
+// "Build system calls and page faults (issue 27)".
 #pragma once
 
 #include <cstddef>
