@@ -691,7 +691,8 @@ std::size_t first_in_shadow(const std::vector<FlatBuffers::Shadow>& shadows, std
 double flat_worse_kerb_m(const Scene& scene, const Path& path, const std::array<Point3, 2>& eyes,
                          const SightParameters& p, double guess_m, SightWork& work, Fan& fan,
                          std::vector<sight_detail::CandidateEdge>& candidates, FlatBuffers& b) {
-  static constexpr std::size_t kFirstChunk = 4, kMaxChunk = 8;  // positions (docs/performance-log.md, issue 27)
+  // Positions a chunk (docs/performance-log.md, issue 27: the sizes tried).
+  static constexpr std::size_t kFirstChunk = 4, kMaxChunk = 8;
   constexpr double kGuessMarginM = 10.0;
   const double end_m = std::min(p.range_m, path.length_m());
   const auto position_m = [&](std::size_t index) {
