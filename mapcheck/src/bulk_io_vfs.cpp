@@ -281,50 +281,31 @@ int bulk_shm_unmap(sqlite3_file* file, int delete_flag) {
 }
 
 // Version 3 (xFetch: memory-mapped pages) is not offered: SQLite then reads through xRead, which
-// sees the pending bytes.
-constexpr sqlite3_io_methods kMethodsV1 = {
-    1,
-    bulk_close,
-    bulk_read,
-    bulk_write,
-    bulk_truncate,
-    bulk_sync,
-    bulk_file_size,
-    bulk_lock,
-    bulk_unlock,
-    bulk_check_reserved_lock,
-    bulk_file_control,
-    bulk_sector_size,
-    bulk_device_characteristics,
-    nullptr,
-    nullptr,
-    nullptr,
-    nullptr,
-    nullptr,
-    nullptr,
-};
-
-constexpr sqlite3_io_methods kMethodsV2 = {
-    2,
-    bulk_close,
-    bulk_read,
-    bulk_write,
-    bulk_truncate,
-    bulk_sync,
-    bulk_file_size,
-    bulk_lock,
-    bulk_unlock,
-    bulk_check_reserved_lock,
-    bulk_file_control,
-    bulk_sector_size,
-    bulk_device_characteristics,
-    bulk_shm_map,
-    bulk_shm_lock,
-    bulk_shm_barrier,
-    bulk_shm_unmap,
-    nullptr,
-    nullptr,
-};
+// sees the pending bytes. Version 1 for a base file without WAL's shared memory.
+constexpr sqlite3_io_methods methods_of_version(int version) {
+  const bool shm = version >= 2;
+  return {version,
+          bulk_close,
+          bulk_read,
+          bulk_write,
+          bulk_truncate,
+          bulk_sync,
+          bulk_file_size,
+          bulk_lock,
+          bulk_unlock,
+          bulk_check_reserved_lock,
+          bulk_file_control,
+          bulk_sector_size,
+          bulk_device_characteristics,
+          shm ? bulk_shm_map : nullptr,
+          shm ? bulk_shm_lock : nullptr,
+          shm ? bulk_shm_barrier : nullptr,
+          shm ? bulk_shm_unmap : nullptr,
+          nullptr,
+          nullptr};
+}
+constexpr sqlite3_io_methods kMethodsV1 = methods_of_version(1);
+constexpr sqlite3_io_methods kMethodsV2 = methods_of_version(2);
 
 // --- the VFS's methods: the base VFS's, with files wrapped ---------------------------------------
 
