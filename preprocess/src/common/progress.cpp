@@ -14,12 +14,14 @@ namespace roadcross::preprocess {
 std::string format_count(double value) {
   if (!std::isfinite(value)) return "-";
   char digits[400];  // %.0f of the largest double has 309 digits
-  std::snprintf(digits, sizeof digits, "%.0f", std::fabs(value));
-  std::string text(digits);
-  for (int at = static_cast<int>(text.size()) - 3; at > 0; at -= 3) {
-    text.insert(static_cast<std::size_t>(at), ",");
+  const int count = std::snprintf(digits, sizeof digits, "%.0f", std::fabs(value));
+  // Built forwards: GCC 12 warns (-Wrestrict, a false positive) on string::insert at -O3.
+  std::string text;
+  if (value < 0 && !(count == 1 && digits[0] == '0')) text += '-';
+  for (int i = 0; i < count; ++i) {
+    if (i > 0 && (count - i) % 3 == 0) text += ',';
+    text += digits[i];
   }
-  if (value < 0 && text != "0") text.insert(text.begin(), '-');
   return text;
 }
 
