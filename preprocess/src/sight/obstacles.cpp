@@ -20,6 +20,7 @@
 #include "roadcross/preprocess/common/huge_pages.hpp"
 #include "roadcross/preprocess/common/id_buckets.hpp"
 #include "roadcross/preprocess/common/parallel.hpp"
+#include "roadcross/preprocess/common/utm_grid.hpp"
 #include "roadcross/preprocess/sight/sight.hpp"
 
 namespace roadcross::preprocess {
@@ -192,6 +193,38 @@ void ObstacleReader::node(const osmium::Node& node) {
   }
 }
 
+namespace {
+
+/// The grid of exact projections (UtmGrid) whose cells cover the UTM box [min, max] of `zone`:
+/// its sides sampled every eighth of their length in latitude and longitude (a side of
+/// constant easting or northing is not one of constant longitude or latitude), with two cells
+/// of margin. None when the box cannot be projected back or the grid would be too large.
+UtmGrid projection_grid(const geo::UtmZone& zone, const PlanePoint& min, const PlanePoint& max) {
+  double lat_lo = 90.0, lat_hi = -90.0, lon_lo = 180.0, lon_hi = -180.0;
+  try {
+    for (int k = 0; k <= 8; ++k) {
+      const double x = min.x + (max.x - min.x) * k / 8.0, y = min.y + (max.y - min.y) * k / 8.0;
+      for (const PlanePoint& p : {PlanePoint{x, min.y}, PlanePoint{x, max.y}, PlanePoint{min.x, y},
+                                  PlanePoint{max.x, y}}) {
+        const geo::LatLon l = geo::utm_to_wgs84(p.x, p.y, zone);
+        lat_lo = std::min(lat_lo, l.lat_deg), lat_hi = std::max(lat_hi, l.lat_deg);
+        lon_lo = std::min(lon_lo, l.lon_deg), lon_hi = std::max(lon_hi, l.lon_deg);
+      }
+    }
+  } catch (const std::exception&) {
+    return UtmGrid();
+  }
+  if (!(lat_lo <= lat_hi && lon_lo <= lon_hi)) return UtmGrid();
+  constexpr double kMarginDeg = 2.0 * UtmGrid::kStepE7 / 1e7;
+  const auto e7 = [](double deg, double limit) {
+    return static_cast<std::int32_t>(std::clamp(deg, -limit, limit) * 1e7);
+  };
+  return UtmGrid(zone, e7(lon_lo - kMarginDeg, 180.0), e7(lat_lo - kMarginDeg, 90.0),
+                 e7(lon_hi + kMarginDeg, 180.0), e7(lat_hi + kMarginDeg, 90.0));
+}
+
+}  // namespace
+
 Obstacles ObstacleReader::take_edges(const geo::UtmZone& zone, const PlanePoint& min,
                                      const PlanePoint& max, double reach_m) {
   Obstacles out;
@@ -211,8 +244,30 @@ Obstacles ObstacleReader::take_edges(const geo::UtmZone& zone, const PlanePoint&
   // projection is most of this stage's time). (lon, lat) as the node pass read them: the same
   // doubles as Location::lon() and lat() there. A node's other references (kReference, its
   // first slot) are copied after.
+  // Most nodes take the interpolated projection: where it gives the exact one's answer for
+  // certain (inside or outside the box, the fixed point) whatever its error.
+  const UtmGrid grid = any_road
+                           ? projection_grid(zone, {min.x - node_reach_m, min.y - node_reach_m},
+                                             {max.x + node_reach_m, max.y + node_reach_m})
+                           : UtmGrid();
+  const auto by_grid = [&](FixedSlot& q) {
+    double e = 0.0, n = 0.0;
+    if (!grid.project(q.x, q.y, e, n)) return false;
+    constexpr double kError = UtmGrid::kErrorBoundM;
+    const double lo_x = min.x - node_reach_m, hi_x = max.x + node_reach_m;
+    const double lo_y = min.y - node_reach_m, hi_y = max.y + node_reach_m;
+    if (e < lo_x - kError || e > hi_x + kError || n < lo_y - kError || n > hi_y + kError) {
+      q = FixedSlot{kNoVertex, kNoVertex};
+      return true;
+    }
+    if (!(e > lo_x + kError && e < hi_x - kError && n > lo_y + kError && n < hi_y - kError)) {
+      return false;
+    }
+    return frame.encode_certain({e, n}, kError, q);
+  };
   const auto project_one = [&](FixedSlot& q) {
     if (q.x == kReference || q.x == kNoVertex) return;
+    if (by_grid(q)) return;
     const osmium::Location l(q.x, q.y);
     bool kept = false;
     geo::UtmPoint u;

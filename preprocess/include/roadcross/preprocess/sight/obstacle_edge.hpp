@@ -94,6 +94,22 @@ class VertexFrame {
     }
     return {static_cast<std::int32_t>(x), static_cast<std::int32_t>(y)};
   }
+  /// encode(q) for every q within error_m (>= 0) of p in x and in y, when they all have that one
+  /// answer; false when a coordinate lies within error_m of a half unit (and of the rounding of
+  /// the subtraction below: half an ulp of |p| + |origin| each for p and q) or near the frame's
+  /// edge. (For a p known only to error_m: sight/obstacles.cpp's interpolated projection.)
+  bool encode_certain(const PlanePoint& p, double error_m, FixedSlot& out) const {
+    const double x = (p.x - origin_x_) / unit_m_, y = (p.y - origin_y_) / unit_m_;
+    const double slack_x = (error_m + (std::abs(p.x) + std::abs(origin_x_)) * 0x1p-52) / unit_m_;
+    const double slack_y = (error_m + (std::abs(p.y) + std::abs(origin_y_)) * 0x1p-52) / unit_m_;
+    const double rx = std::nearbyint(x), ry = std::nearbyint(y);
+    if (!(std::abs(x - rx) < 0.5 - slack_x && std::abs(y - ry) < 0.5 - slack_y)) return false;
+    if (!(rx >= 0.0 && rx <= double(kMaxUnits) && ry >= 0.0 && ry <= double(kMaxUnits))) {
+      return false;
+    }
+    out = {static_cast<std::int32_t>(rx), static_cast<std::int32_t>(ry)};
+    return true;
+  }
   /// The exact double of a vertex slot (x >= 0).
   PlanePoint decode(FixedSlot s) const {
     return {origin_x_ + double(s.x) * unit_m_, origin_y_ + double(s.y) * unit_m_};
