@@ -240,10 +240,9 @@ Obstacles ObstacleReader::take_edges(const geo::UtmZone& zone, const PlanePoint&
       any_road ? VertexFrame::covering({min.x - node_reach_m, min.y - node_reach_m},
                                        {max.x + node_reach_m, max.y + node_reach_m})
                : VertexFrame();
-  // Location -> UTM -> fixed point in place, kNoVertex when missing or far; on every core (the
-  // projection is most of this stage's time). (lon, lat) as the node pass read them: the same
-  // doubles as Location::lon() and lat() there. A node's other references (kReference, its
-  // first slot) are copied after.
+  // Location -> UTM -> fixed point in place, kNoVertex when missing or far; on every core.
+  // (lon, lat) as the node pass read them: the same doubles as Location::lon() and lat() there.
+  // A node's other references (kReference, its first slot) are copied after.
   // Most nodes take the interpolated projection: where it gives the exact one's answer for
   // certain (inside or outside the box, the fixed point) whatever its error.
   const UtmGrid grid = any_road
