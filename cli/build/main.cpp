@@ -2,11 +2,16 @@
 #include <CLI/CLI.hpp>
 
 #include <sqlite3.h>
+#include <unistd.h>
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <string_view>
 
 #include "cli_conventions.hpp"
 #include "roadcross/preprocess/build.hpp"
@@ -20,6 +25,49 @@
 namespace rp = roadcross::preprocess;
 
 namespace {
+
+/// True when this process's malloc was started with glibc.malloc.hugetlb 1 or 2 (the last
+/// setting in GLIBC_TUNABLES counts, as for glibc).
+bool malloc_on_huge_pages() {
+  const char* tunables = std::getenv("GLIBC_TUNABLES");
+  if (!tunables) return false;
+  const std::string_view all(tunables), key = "glibc.malloc.hugetlb=";
+  bool on = false;
+  for (std::size_t at = all.find(key); at != std::string_view::npos; at = all.find(key, at + 1)) {
+    if (at > 0 && all[at - 1] != ':') continue;
+    const std::string_view value = all.substr(at + key.size(), all.find(':', at) - at - key.size());
+    on = value == "1" || value == "2";
+  }
+  return on;
+}
+
+/// glibc's malloc puts its heaps on transparent huge pages only when told so before the process
+/// starts (the tunable glibc.malloc.hugetlb=1, read by the dynamic loader). A build's tables
+/// take hundreds of MiB to GiB, on 4 KiB pages a page fault (~10 us on a VM) and a TLB entry
+/// each: so the build runs itself again, once, with the tunable added (docs/performance.md,
+/// "Huge pages for malloc"). Not when GLIBC_TUNABLES already names it (the user's choice, either
+/// way) or ROADCROSS_NO_RELAUNCH is set to anything but 0 (a profiler that follows one image);
+/// if the exec fails the build goes on as it is. First thing in main: no file is open yet.
+void relaunch_with_huge_page_malloc(char** argv) {
+#if defined(__linux__) && defined(__GLIBC__)
+  const char* tunables = std::getenv("GLIBC_TUNABLES");
+  if (tunables && std::strstr(tunables, "glibc.malloc.hugetlb")) return;
+  const char* no_relaunch = std::getenv("ROADCROSS_NO_RELAUNCH");
+  if (no_relaunch && *no_relaunch && std::strcmp(no_relaunch, "0") != 0) return;
+  const std::string previous = tunables ? tunables : "";
+  const std::string value =
+      previous.empty() ? "glibc.malloc.hugetlb=1" : previous + ":glibc.malloc.hugetlb=1";
+  if (::setenv("GLIBC_TUNABLES", value.c_str(), 1) != 0) return;
+  ::execv("/proc/self/exe", argv);
+  if (tunables) {
+    ::setenv("GLIBC_TUNABLES", previous.c_str(), 1);
+  } else {
+    ::unsetenv("GLIBC_TUNABLES");
+  }
+#else
+  (void)argv;
+#endif
+}
 
 void print_json_summary(const rp::BuildOptions& options, const rp::BuildSummary& s) {
   nlohmann::ordered_json out;
@@ -58,6 +106,7 @@ void print_json_summary(const rp::BuildOptions& options, const rp::BuildSummary&
   out["stages"] = stages;
   out["seconds"] = s.seconds;
   out["peak_rss_mib"] = static_cast<double>(s.peak_rss_kib) / 1024.0;
+  out["malloc_huge_pages"] = malloc_on_huge_pages();
   // Paths may be any bytes: replaced in the JSON (which must be UTF-8), never fatal.
   std::cout << out.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) << "\n";
 }
@@ -78,6 +127,7 @@ void apply_config_file(CLI::App& app, const std::string& path, rp::Parameters& p
 }  // namespace
 
 int main(int argc, char** argv) {
+  relaunch_with_huge_page_malloc(argv);
   // SQLite counts every allocation under one process-wide mutex unless told not to; the build
   // never reads the counts, and the GeoPackage writers allocate per row on two threads.
   // (Only possible before SQLite initialises, i.e. first thing.)
