@@ -440,8 +440,11 @@ class EdgeGrid {
         for (std::int64_t c = c0; c <= c1; ++c) {
           const std::uint64_t k = key(c >> kTileShift, row >> kTileShift);
           if (!cached || k != cached_key) {
+            const std::uint32_t* begins = tile_begins(k);
+            // (The first pass numbered every tile a walk reaches: never, but not silently.)
+            if (!begins) throw std::logic_error("EdgeGrid: a cell in no numbered tile");
             cached = true, cached_key = k;
-            cached_base = static_cast<std::size_t>(tile_begins(k) - begins_.data());
+            cached_base = static_cast<std::size_t>(begins - begins_.data());
           }
           visit(i, cached_base + cell_in_tile(c, row));
         }
