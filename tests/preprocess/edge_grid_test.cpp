@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <random>
 #include <set>
 #include <stdexcept>
@@ -210,6 +211,147 @@ TEST(EdgeGrid, AgreesWithAPlainSetOfCellsPerEdge) {
     });
     ASSERT_EQ(offered(grid, a, b), expected) << "line " << k;
   }
+}
+
+namespace {
+
+/// The grid as one walk of every edge in index order makes it, from for_cells_along alone:
+/// tiles numbered as first reached, then per tile its cells' begins row by row, the end, and
+/// the edges cell by cell in increasing index order.
+struct PlainGrid {
+  std::vector<std::pair<std::int64_t, std::int64_t>> tiles;  // (column, row), by number
+  std::vector<std::uint32_t> begins, edges;
+};
+
+template <typename EdgeEnds>
+PlainGrid plain_grid(std::size_t ids, const EdgeEnds& ends) {
+  std::map<std::pair<std::int64_t, std::int64_t>, std::size_t> number;
+  std::vector<std::vector<std::vector<std::uint32_t>>> lists;  // per tile, per cell
+  PlainGrid out;
+  for (std::size_t i = 0; i < ids; ++i) {
+    PlanePoint a, b;
+    if (!ends(i, a, b)) continue;
+    sd::for_cells_along(a, b, 16.0, [&](std::int64_t c, std::int64_t r) {
+      const std::pair<std::int64_t, std::int64_t> tile{c >> 4, r >> 4};
+      const auto [at, added] = number.emplace(tile, out.tiles.size());
+      if (added) out.tiles.push_back(tile), lists.emplace_back(256);
+      lists[at->second][static_cast<std::size_t>((r & 15) * 16 + (c & 15))].push_back(
+          static_cast<std::uint32_t>(i));
+      return false;
+    });
+  }
+  for (const auto& tile : lists) {
+    for (const auto& cell : tile) {
+      out.begins.push_back(static_cast<std::uint32_t>(out.edges.size()));
+      out.edges.insert(out.edges.end(), cell.begin(), cell.end());
+    }
+  }
+  out.begins.push_back(static_cast<std::uint32_t>(out.edges.size()));
+  return out;
+}
+
+void expect_grid_is(const sd::EdgeGrid& grid, const PlainGrid& want, const std::string& what) {
+  ASSERT_EQ(grid.tiles(), want.tiles.size()) << what;
+  for (std::size_t t = 0; t < want.tiles.size(); ++t) {
+    const auto [column, row] = want.tiles[t];
+    ASSERT_EQ(grid.tile_number(column * 16 + 5, row * 16 + 11), static_cast<std::int64_t>(t))
+        << what << ": tile " << t;
+  }
+  ASSERT_EQ(std::vector<std::uint32_t>(grid.cell_begins().begin(), grid.cell_begins().end()),
+            want.begins)
+      << what;
+  ASSERT_EQ(std::vector<std::uint32_t>(grid.cell_edges().begin(), grid.cell_edges().end()),
+            want.edges)
+      << what;
+  // Each cell's edges in increasing index order (the filing backwards, band by band).
+  for (std::size_t cell = 0; cell + 1 < want.begins.size(); ++cell) {
+    for (std::uint32_t e = want.begins[cell] + 1; e < want.begins[cell + 1]; ++e) {
+      ASSERT_LT(grid.cell_edges()[e - 1], grid.cell_edges()[e]) << what << ": cell " << cell;
+    }
+  }
+}
+
+/// Random edges over 16 x 16 tiles around the origin (both signs of cell index): short ones
+/// (most in one tile), long ones across several tiles and so across the bands' borders, and
+/// ones on tile borders (whole multiples of 256 m: a walk's slack reaches the next tile).
+std::vector<rp::ObstacleEdge> edges_across_tiles(std::uint64_t seed, int count) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> where(-2048.0, 2048.0), step(-40.0, 40.0),
+      far(-900.0, 900.0);
+  std::uniform_int_distribution<int> border(-8, 8), kind(0, 9);
+  std::vector<rp::ObstacleEdge> edges;
+  for (int i = 0; i < count; ++i) {
+    const double x = where(rng), y = where(rng);
+    switch (kind(rng)) {
+      case 0:
+        edges.push_back(edge(x, y, x + far(rng), y + far(rng)));
+        break;
+      case 1:  // along a tile row's border
+        edges.push_back(edge(x, 256.0 * border(rng), x + far(rng), 256.0 * border(rng)));
+        break;
+      case 2: {  // a tile corner to a point
+        const double cx = 256.0 * border(rng), cy = 256.0 * border(rng);
+        edges.push_back(edge(cx, cy, cx + step(rng), cy + step(rng)));
+        break;
+      }
+      default:
+        edges.push_back(edge(x, y, x + step(rng), y + step(rng)));
+    }
+  }
+  return edges;
+}
+
+}  // namespace
+
+TEST(EdgeGrid, EveryNumberOfBandsGivesTheGridOfOneWalkOfAllEdges) {
+  // The bands (threads) split the counting and filing by tile rows; edges across a band's
+  // border are walked by both. The grid must be that of one walk in index order, bit for bit.
+  for (const std::uint64_t seed : {1u, 2u, 3u}) {
+    const std::vector<rp::ObstacleEdge> edges = edges_across_tiles(seed, 4000);
+    const PlainGrid want =
+        plain_grid(edges.size(), [&](std::size_t i, PlanePoint& a, PlanePoint& b) {
+          a = edges[i].a, b = edges[i].b;
+          return true;
+        });
+    ASSERT_GT(want.tiles.size(), 150u);
+    for (const unsigned bands : {1u, 2u, 3u, 7u, 16u, 1000u}) {
+      const sd::EdgeGrid grid(edges, bands);
+      expect_grid_is(grid, want,
+                     "seed " + std::to_string(seed) + ", " + std::to_string(bands) + " bands");
+    }
+  }
+}
+
+TEST(EdgeGrid, OneAndTwoBandsGiveTheSameGridOfAnObstacleEdgesStore) {
+  // Ids are slots (headers are none): the same grid with gaps in the ids.
+  const std::vector<rp::ObstacleEdge> edges = edges_across_tiles(11, 3000);
+  const rp::ObstacleEdges store(edges);
+  const PlainGrid want =
+      plain_grid(store.slots(), [&](std::size_t i, PlanePoint& a, PlanePoint& b) {
+        if (!store.is_edge(i)) return false;
+        a = store.a(static_cast<std::uint32_t>(i)), b = store.b(static_cast<std::uint32_t>(i));
+        return true;
+      });
+  const sd::EdgeGrid one(store, 1), two(store, 2);
+  expect_grid_is(one, want, "1 band");
+  expect_grid_is(two, want, "2 bands");
+  EXPECT_EQ(one.longest_edge_m(), two.longest_edge_m());
+  // And the lines it offers, as a check of the tile table the bands read.
+  std::mt19937_64 rng(12);
+  std::uniform_real_distribution<double> where(-2048.0, 2048.0), reach(-300.0, 300.0);
+  for (int k = 0; k < 300; ++k) {
+    const PlanePoint a{where(rng), where(rng)};
+    const PlanePoint b{a.x + reach(rng), a.y + reach(rng)};
+    ASSERT_EQ(offered(two, a, b), offered(one, a, b)) << "line " << k;
+  }
+}
+
+TEST(EdgeGrid, NoEdgesWithManyBands) {
+  const sd::EdgeGrid grid(std::vector<rp::ObstacleEdge>{}, 4);
+  EXPECT_EQ(grid.tiles(), 0u);
+  EXPECT_EQ(grid.entries(), 0u);
+  EXPECT_EQ(std::vector<std::uint32_t>(grid.cell_begins().begin(), grid.cell_begins().end()),
+            std::vector<std::uint32_t>{0});
 }
 
 TEST(ObstacleEdges, ARingIsItsVerticesOnceAfterAHeader) {

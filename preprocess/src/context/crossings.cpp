@@ -7,6 +7,7 @@
 #include <queue>
 #include <unordered_map>
 
+#include "roadcross/preprocess/common/parallel.hpp"
 #include "roadcross/preprocess/context/kerb_tags.hpp"
 
 namespace roadcross::preprocess {
@@ -395,21 +396,27 @@ void assign_crossing_distances(RoadGraph& graph, const std::vector<Crossing>& cr
     }
   }
   const auto at = [&](std::int64_t node) { return node_distance[incidences.index_of(node)]; };
-  for (std::size_t p = 0; p < graph.pieces.size(); ++p) {
-    const RoadPiece& piece = graph.pieces[p];
-    const auto own = on_piece.find(p);
-    for (std::size_t k = 0; k < piece.segment_count; ++k) {
-      Segment& s = graph.segments[piece.first_segment + k];
-      // From the midpoint, as junction_distance_m: where a robot crossing "here" stands.
-      const double mid = graph.offset_in_piece_m(s) + 0.5 * graph.length_m(s);
-      double d =
-          std::min(mid + at(piece.from_node_id), piece.length_m - mid + at(piece.to_node_id));
-      if (own != on_piece.end()) {
-        for (double offset : own->second) d = std::min(d, std::abs(mid - offset));
-      }
-      if (std::isfinite(d)) s.crossing_distance_m = d;
-    }
-  }
+  // Piece by piece on every core (each writes only its own segments); its ends' distances
+  // looked up once, not for each of its segments (a binary search each).
+  constexpr std::size_t kChunk = 256;
+  parallel_for<NoState>(
+      graph.pieces.size(),
+      [&](std::size_t p, NoState&) {
+        const RoadPiece& piece = graph.pieces[p];
+        const auto own = on_piece.find(p);
+        const double from_m = at(piece.from_node_id), to_m = at(piece.to_node_id);
+        for (std::size_t k = 0; k < piece.segment_count; ++k) {
+          Segment& s = graph.segments[piece.first_segment + k];
+          // From the midpoint, as junction_distance_m: where a robot crossing "here" stands.
+          const double mid = graph.offset_in_piece_m(s) + 0.5 * graph.length_m(s);
+          double d = std::min(mid + from_m, piece.length_m - mid + to_m);
+          if (own != on_piece.end()) {
+            for (double offset : own->second) d = std::min(d, std::abs(mid - offset));
+          }
+          if (std::isfinite(d)) s.crossing_distance_m = d;
+        }
+      },
+      kChunk);
 }
 
 namespace {

@@ -10,6 +10,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <future>
 #include <limits>
 #include <span>
 #include <stdexcept>
@@ -891,17 +892,30 @@ void sight_of_segment(const Context& c, Segment& s, SightThread& t) {
 
 SightReport compute_sight(RoadGraph& graph, const Grid* terrain, const ObstacleEdges& obstacles,
                           const SightParameters& p) {
+  // The roads' tables on a thread of their own while the grid is built: they are serial, and
+  // so is the grid's first pass.
+  struct RoadTables {
+    std::vector<std::vector<double>> cumulative;
+    Incidences incidences;
+    std::vector<std::array<std::uint32_t, 2>> nodes;
+    std::vector<std::array<PlanePoint, 2>> leaving;
+  };
+  std::future<RoadTables> road_tables = std::async(std::launch::async, [&graph] {
+    std::vector<std::vector<double>> cumulative;
+    cumulative.reserve(graph.pieces.size());
+    for (const RoadPiece& piece : graph.pieces) cumulative.push_back(cumulative_m(piece.points));
+    Incidences incidences = incidences_of(graph);
+    std::vector<std::array<std::uint32_t, 2>> nodes = end_nodes(graph, incidences);
+    return RoadTables{std::move(cumulative), std::move(incidences), std::move(nodes),
+                      leaving_directions(graph)};
+  });
   const Scene scene(terrain, obstacles);
-  std::vector<std::vector<double>> cumulative;
-  cumulative.reserve(graph.pieces.size());
-  for (const RoadPiece& piece : graph.pieces) cumulative.push_back(cumulative_m(piece.points));
-  Incidences incidences = incidences_of(graph);
-  std::vector<std::array<std::uint32_t, 2>> nodes = end_nodes(graph, incidences);
+  RoadTables tables = road_tables.get();
   const Context context{graph,
-                        std::move(incidences),
-                        std::move(nodes),
-                        std::move(cumulative),
-                        leaving_directions(graph),
+                        std::move(tables.incidences),
+                        std::move(tables.nodes),
+                        std::move(tables.cumulative),
+                        std::move(tables.leaving),
                         scene,
                         p};
 
