@@ -6,7 +6,6 @@ namespace roadcross::preprocess {
 
 void DonePrefix::done(std::size_t begin, std::size_t end) {
   std::size_t prefix;
-  bool stopped;
   {
     const std::lock_guard lock(mutex_);
     if (begin == prefix_) {
@@ -22,10 +21,9 @@ void DonePrefix::done(std::size_t begin, std::size_t end) {
       ahead_.emplace(begin, end);
     }
     prefix = prefix_;
-    stopped = stopped_;
   }
   if (after_done_for_tests) after_done_for_tests(prefix);
-  if (stopped) throw Stopped();
+  if (this->stopped()) throw Stopped();
 }
 
 void DonePrefix::abandon() noexcept {
