@@ -336,8 +336,9 @@ void write_segment_rows(sqlite::Database& db, const std::string& db_path, const 
 /// Writes the open transaction's dirty pages to the file and frees the page cache's memory. The
 /// same pages are written either way (now or at the commit), so the same bytes.
 void write_out_pages(sqlite::Database& db) {
+  // (sqlite3_db_cacheflush leaves the connection's message alone: it would say "not an error".)
   if (const int rc = sqlite3_db_cacheflush(db.handle()); rc != SQLITE_OK) {
-    throw sqlite::sqlite_error(rc, sqlite3_errmsg(db.handle()));
+    throw sqlite::sqlite_error(rc, sqlite3_errstr(rc));
   }
   sqlite3_db_release_memory(db.handle());
 }
