@@ -261,7 +261,8 @@ std::string segment_column_list() {
 /// (`<path>-rows`, same table) on a second thread while the first ones go into `db` and are
 /// committed; then SQLite copies the side table's records into `db` without decoding them (its
 /// "xfer" optimisation of INSERT INTO t SELECT * FROM t2, cheaper than encoding the rows again).
-/// The rows and their order are the same as one insert of all rows.
+/// The rows and their order are the same as one insert of all rows. For a build without the
+/// sight stage: with it, write_segment_rows_as_final() writes them while that stage runs.
 void write_segment_rows(sqlite::Database& db, const std::string& db_path, const RoadGraph& graph,
                         const SuitabilityRule& rule, Progress& progress) {
   const std::size_t total = graph.segments.size();
