@@ -496,16 +496,17 @@ void GeoPackageWriter::write_segment_rows_as_final(
 void GeoPackageWriter::finish(const DatabaseContents& contents, Progress& progress,
                               std::future<void>* streamed_rows) {
   const RoadGraph& graph = *contents.graph;
-  if (!indexed_segments_ || *indexed_segments_ != graph.segments.size()) {
-    throw std::logic_error("GeoPackageWriter::finish before write_segment_index of this graph");
-  }
   progress.start_stage("writing the GeoPackage", "segments");
   if (streamed_rows) {
     // What is left of the rows written beside the producer: the stage shows only that tail.
+    // (Its thread may still be waiting for the index: nothing of the writer is read before.)
     while (streamed_rows->wait_for(std::chrono::milliseconds(100)) != std::future_status::ready) {
       progress.update(streamed_rows_, graph.segments.size());
     }
     streamed_rows->get();
+  }
+  if (!indexed_segments_ || *indexed_segments_ != graph.segments.size()) {
+    throw std::logic_error("GeoPackageWriter::finish before write_segment_index of this graph");
   }
   try {
     write_rows_and_metadata(contents, progress, streamed_rows);
