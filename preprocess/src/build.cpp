@@ -373,7 +373,8 @@ void sight_and_segment_rows(const BuildOptions& options, Pipeline& p, GeoPackage
   // reads is destroyed.
   std::future<void> rows = std::async(std::launch::async, [&] {
     try {
-      // The same connection: the index is written before the rows (it is long done by now).
+      // The same connection: the rows come after the index (written during the cost stages; a
+      // tiny map's sight stage can end before it).
       segment_index.get();
       writer.write_segment_rows_as_final(
           p.graph, p.parameters.as_metadata(), final_segments, before_batch,
