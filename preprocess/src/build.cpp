@@ -88,10 +88,10 @@ std::future<Obstacles> take_obstacles_aside(ObstacleReader& reader, const RoadGr
 /// Buildings and walls from the OSM file (`taken`: take_obstacles_aside's), then the sight
 /// distance of every segment over the stored terrain grid. The grid covers the roads' box plus
 /// the largest TPI radius, and every sight line joins two points within half a road width of
-/// that box: the whole line is on it.
+/// that box: the whole line is on it. `final_segments`: compute_sight's.
 std::vector<std::string> run_sight_stage(const BuildOptions& options, RoadGraph& graph,
                                          const Grid* terrain, std::future<Obstacles>& taken,
-                                         Progress& progress) {
+                                         DonePrefix* final_segments, Progress& progress) {
   const SightParameters& p = options.parameters.sight;
   progress.start_stage("buildings and walls");
   Obstacles obstacles = taken.get();
@@ -101,7 +101,7 @@ std::vector<std::string> run_sight_stage(const BuildOptions& options, RoadGraph&
                         std::to_string(obstacles.report.edges) +
                         " edges (taken beside the stages since segmenting)");
   progress.start_stage("sight distance");
-  const SightReport report = compute_sight(graph, terrain, obstacles.edges, p);
+  const SightReport report = compute_sight(graph, terrain, obstacles.edges, p, final_segments);
   obstacles.edges = ObstacleEdges();
   progress.finish_stage(
       std::to_string(report.segments) + " segments, " + std::to_string(report.limited) +
@@ -310,20 +310,22 @@ std::vector<std::pair<std::string, std::string>> metadata_rows(const BuildOption
   return rows;
 }
 
+/// `streamed_rows`: the segment rows' writer when they were written during the sight stage
+/// (it waited for `segment_index`); null: they are written here.
 void write_stage(const BuildOptions& options, Pipeline& p, const InputHashes& hashes,
                  GeoPackageWriter& writer, std::future<void>& segment_index,
-                 const AtomicOutput& output, Progress& progress) {
+                 std::future<void>* streamed_rows, const AtomicOutput& output, Progress& progress) {
   DatabaseContents contents;
   contents.graph = &p.graph;
   contents.crossings = &p.context.crossings;
   contents.last_change = p.last_change;
   contents.metadata = metadata_rows(options, p, hashes);
   progress.start_stage("spatial index");
-  naming_the_output(options, [&] { segment_index.get(); });
+  if (!streamed_rows) naming_the_output(options, [&] { segment_index.get(); });
   progress.finish_stage("R*Tree of " + std::to_string(p.graph.segments.size()) +
                         " segments (written during the cost stages)");
   naming_the_output(options, [&] {
-    writer.finish(contents, progress);
+    writer.finish(contents, progress, streamed_rows);
     if (!options.elevation.sources.empty()) {
       progress.start_stage("writing the terrain grid");
       write_terrain_coverage(output.temp_path(), std::move(p.terrain_grid), contents.last_change);
@@ -343,6 +345,59 @@ void write_stage(const BuildOptions& options, Pipeline& p, const InputHashes& ha
       throw OutputError(std::string("cannot write the map_id: ") + e.what());
     }
   });
+}
+
+/// The sight stage on both cores, with the segment rows written beside it on a third thread as
+/// the segments become final (DonePrefix), then the rest of the GeoPackage. The rows' CPU time
+/// then fills the cores during the stage instead of running after it. The rows need their rank
+/// (with the sight's penalty): set by the writer's thread just before a batch, from the same
+/// per-segment functions as compute_ranks and apply_sight_rank_penalty.
+void sight_and_segment_rows(const BuildOptions& options, Pipeline& p, GeoPackageWriter& writer,
+                            std::future<void>& segment_index, std::future<Obstacles>& obstacles,
+                            std::future<InputHashes>& input_hashes, const AtomicOutput& output,
+                            Progress& progress) {
+  // Rows a batch: the writer wakes once a batch, and the batch's pages (≈ 5 MiB) are the page
+  // cache it keeps beside the sight stage's memory.
+  constexpr std::size_t kRowBatch = 16384;
+  DonePrefix final_segments(p.graph.segments.size());
+  final_segments.after_done_for_tests = options.test_hooks.after_sight_chunk;
+  const auto before_batch = [&](std::size_t begin, std::size_t end) {
+    if (options.test_hooks.before_row_batch) options.test_hooks.before_row_batch(begin, end);
+    for (std::size_t i = begin; i < end; ++i) {
+      Segment& s = p.graph.segments[i];
+      compute_rank(p.graph, s, options.parameters.rank);
+      apply_sight_rank_penalty(s, options.parameters.sight);
+    }
+  };
+  // Declared after final_segments: an exception below waits for the writer before the prefix it
+  // reads is destroyed.
+  std::future<void> rows = std::async(std::launch::async, [&] {
+    try {
+      // The same connection: the rows come after the index (written during the cost stages; a
+      // tiny map's sight stage can end before it).
+      segment_index.get();
+      writer.write_segment_rows_as_final(
+          p.graph, p.parameters.as_metadata(), final_segments, before_batch,
+          options.test_hooks.row_batch ? options.test_hooks.row_batch : kRowBatch);
+    } catch (...) {
+      final_segments.stop();  // the sight threads end at their next chunk
+      throw;
+    }
+  });
+  try {
+    p.sight_notes = run_sight_stage(options, p.graph,
+                                    options.elevation.sources.empty() ? nullptr : &p.terrain_grid,
+                                    obstacles, &final_segments, progress);
+  } catch (const DonePrefix::Stopped&) {
+    // The writer failed (a full disk): its error is the build's.
+    naming_the_output(options, [&] { rows.get(); });
+    throw std::logic_error("the sight stage was stopped by a segment-row writer that did not fail");
+  } catch (...) {
+    final_segments.abandon();  // the writer's wait throws: it ends before the error is reported
+    rows.wait();
+    throw;
+  }
+  write_stage(options, p, input_hashes.get(), writer, segment_index, &rows, output, progress);
 }
 
 BuildSummary summarize(const BuildOptions& options, const Pipeline& p, Progress& progress) {
@@ -433,14 +488,13 @@ BuildSummary run_build(const BuildOptions& options) {
   terrain_stage(options, p, segment_index, progress);
   context_scores_stage(options, p, progress);
   if (with_sight) {
-    p.sight_notes = run_sight_stage(options, p.graph,
-                                    options.elevation.sources.empty() ? nullptr : &p.terrain_grid,
-                                    obstacles, progress);
+    sight_and_segment_rows(options, p, *writer, segment_index, obstacles, input_hashes, output,
+                           progress);
+  } else {
+    compute_ranks(p.graph, options.parameters.rank);
+    apply_sight_rank_penalty(p.graph, options.parameters.sight);
+    write_stage(options, p, input_hashes.get(), *writer, segment_index, nullptr, output, progress);
   }
-  compute_ranks(p.graph, options.parameters.rank);
-  apply_sight_rank_penalty(p.graph, options.parameters.sight);
-
-  write_stage(options, p, input_hashes.get(), *writer, segment_index, output, progress);
   output.commit();
 
   BuildSummary summary = summarize(options, p, progress);

@@ -30,12 +30,14 @@ int rank_of(int curvature_cost, int class_cost, std::optional<int> elevation_cos
   return static_cast<int>(std::clamp(rank, 0.0, 14.0));
 }
 
+void compute_rank(const RoadGraph& graph, Segment& s, const RankParameters& p) {
+  // (Reasons need no sorting: ReasonSet keeps them in their canonical order.)
+  s.rank = rank_of(s.curvature_cost.value_or(0), graph.class_cost(s).value_or(0),
+                   s.elevation_cost.optional(), p);
+}
+
 void compute_ranks(RoadGraph& graph, const RankParameters& p) {
-  for (Segment& s : graph.segments) {
-    // (Reasons need no sorting: ReasonSet keeps them in their canonical order.)
-    s.rank = rank_of(s.curvature_cost.value_or(0), graph.class_cost(s).value_or(0),
-                     s.elevation_cost.optional(), p);
-  }
+  for (Segment& s : graph.segments) compute_rank(graph, s, p);
 }
 
 }  // namespace roadcross::preprocess

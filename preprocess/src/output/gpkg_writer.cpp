@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <future>
@@ -260,7 +261,8 @@ std::string segment_column_list() {
 /// (`<path>-rows`, same table) on a second thread while the first ones go into `db` and are
 /// committed; then SQLite copies the side table's records into `db` without decoding them (its
 /// "xfer" optimisation of INSERT INTO t SELECT * FROM t2, cheaper than encoding the rows again).
-/// The rows and their order are the same as one insert of all rows.
+/// The rows and their order are the same as one insert of all rows. For a build without the
+/// sight stage: with it, write_segment_rows_as_final() writes them while that stage runs.
 void write_segment_rows(sqlite::Database& db, const std::string& db_path, const RoadGraph& graph,
                         const SuitabilityRule& rule, Progress& progress) {
   const std::size_t total = graph.segments.size();
@@ -330,6 +332,16 @@ void write_segment_rows(sqlite::Database& db, const std::string& db_path, const 
   std::remove(side_path.c_str());
   db.exec("BEGIN");
   progress.update(total, total);
+}
+
+/// Writes the open transaction's dirty pages to the file and frees the page cache's memory. The
+/// same pages are written either way (now or at the commit), so the same bytes.
+void write_out_pages(sqlite::Database& db) {
+  // (sqlite3_db_cacheflush leaves the connection's message alone: it would say "not an error".)
+  if (const int rc = sqlite3_db_cacheflush(db.handle()); rc != SQLITE_OK) {
+    throw sqlite::sqlite_error(rc, sqlite3_errstr(rc));
+  }
+  sqlite3_db_release_memory(db.handle());
 }
 
 /// The extent of nothing: grow() with any box gives that box.
@@ -447,23 +459,57 @@ void GeoPackageWriter::write_segment_index(const RoadGraph& graph) {
     // the file now and their memory freed: the cost stages after it (the terrain stage's tiles
     // and stored grid, the sight stage's obstacles) make the build's peak. The same pages are
     // written either way, so the same bytes.
-    if (const int rc = sqlite3_db_cacheflush(db_->handle()); rc != SQLITE_OK) {
-      throw sqlite::sqlite_error(rc, sqlite3_errmsg(db_->handle()));
-    }
-    sqlite3_db_release_memory(db_->handle());
+    write_out_pages(*db_);
   } catch (const sqlite::sqlite_error& e) {
     throw OutputError(std::string("cannot write the database: ") + e.what());
   }
 }
 
-void GeoPackageWriter::finish(const DatabaseContents& contents, Progress& progress) {
+void GeoPackageWriter::write_segment_rows_as_final(
+    const RoadGraph& graph, const std::vector<std::pair<std::string, std::string>>& metadata,
+    DonePrefix& final_segments, const std::function<void(std::size_t, std::size_t)>& before_batch,
+    std::size_t batch_rows) {
+  const std::size_t total = graph.segments.size();
+  if (!indexed_segments_ || *indexed_segments_ != total || final_segments.count() != total) {
+    throw std::logic_error("write_segment_rows_as_final before write_segment_index of this graph");
+  }
+  const SuitabilityRule rule = suitability_rule(metadata);
+  const std::string columns = segment_column_list();
+  batch_rows = std::max<std::size_t>(batch_rows, 1);
+  try {
+    for (std::size_t begin = 0; begin < total;) {
+      const std::size_t end =
+          std::min(final_segments.wait_for(begin + batch_rows), begin + batch_rows);
+      before_batch(begin, end);
+      insert_rows(db_->handle(), schema::kSegmentsTable, columns,
+                  SegmentRows(graph, rule, begin, end));
+      // Written out beside the producer, not at the commit after it; and the cache stays one
+      // batch's pages, beside the producer's peak memory.
+      write_out_pages(*db_);
+      streamed_rows_ = begin = end;
+    }
+  } catch (const sqlite::sqlite_error& e) {
+    throw OutputError(std::string("cannot write the database: ") + e.what());
+  }
+}
+
+void GeoPackageWriter::finish(const DatabaseContents& contents, Progress& progress,
+                              std::future<void>* streamed_rows) {
   const RoadGraph& graph = *contents.graph;
+  progress.start_stage("writing the GeoPackage", "segments");
+  if (streamed_rows) {
+    // What is left of the rows written beside the producer: the stage shows only that tail.
+    // (Its thread may still be waiting for the index: nothing of the writer is read before.)
+    while (streamed_rows->wait_for(std::chrono::milliseconds(100)) != std::future_status::ready) {
+      progress.update(streamed_rows_, graph.segments.size());
+    }
+    streamed_rows->get();
+  }
   if (!indexed_segments_ || *indexed_segments_ != graph.segments.size()) {
     throw std::logic_error("GeoPackageWriter::finish before write_segment_index of this graph");
   }
-  progress.start_stage("writing the GeoPackage", "segments");
   try {
-    write_rows_and_metadata(contents, progress);
+    write_rows_and_metadata(contents, progress, streamed_rows);
     // Only now: a statement still open would keep sqlite3_close from closing the file.
     db_.reset();
   } catch (const sqlite::sqlite_error& e) {
@@ -501,11 +547,13 @@ std::vector<std::pair<std::string_view, std::string>> coverage_metadata(
 
 }  // namespace
 
-void GeoPackageWriter::write_rows_and_metadata(const DatabaseContents& contents,
-                                               Progress& progress) {
+void GeoPackageWriter::write_rows_and_metadata(const DatabaseContents& contents, Progress& progress,
+                                               std::future<void>* streamed_rows) {
   const RoadGraph& graph = *contents.graph;
   sqlite::Database& db = *db_;
-  write_segment_rows(db, path_, graph, suitability_rule(contents.metadata), progress);
+  if (!streamed_rows) {
+    write_segment_rows(db, path_, graph, suitability_rule(contents.metadata), progress);
+  }
   auto update = db.prepare(
       "UPDATE gpkg_contents SET min_x = ?, min_y = ?, max_x = ?, max_y = ? WHERE table_name = "
       "?");

@@ -891,7 +891,7 @@ void sight_of_segment(const Context& c, Segment& s, SightThread& t) {
 }  // namespace
 
 SightReport compute_sight(RoadGraph& graph, const Grid* terrain, const ObstacleEdges& obstacles,
-                          const SightParameters& p) {
+                          const SightParameters& p, DonePrefix* done) {
   // The roads' tables on a thread of their own while the grid is built: they are serial, and
   // so is the grid's first pass.
   struct RoadTables {
@@ -929,7 +929,7 @@ SightReport compute_sight(RoadGraph& graph, const Grid* terrain, const ObstacleE
         // A tunnel is never crossed (TUNNEL) and the terrain above it would hide everything.
         if (!s.tunnel) sight_of_segment(context, s, thread);
       },
-      kChunk);
+      kChunk, 16, done);
   std::size_t tests = 0, fans = 0, clear_fans = 0, fan_positions = 0, candidates = 0,
               open_tried = 0, open = 0;
   for (const SightThread& thread : threads) {
@@ -956,12 +956,14 @@ SightReport compute_sight(RoadGraph& graph, const Grid* terrain, const ObstacleE
   return report;
 }
 
-void apply_sight_rank_penalty(RoadGraph& graph, const SightParameters& p) {
+void apply_sight_rank_penalty(Segment& s, const SightParameters& p) {
   if (p.limited_visibility_unsuitable != 0.0) return;
-  for (Segment& s : graph.segments) {
-    if (!s.rank || !s.reasons.contains("LIMITED_VISIBILITY")) continue;
-    s.rank = std::min(14, *s.rank + static_cast<int>(p.rank_penalty));
-  }
+  if (!s.rank || !s.reasons.contains("LIMITED_VISIBILITY")) return;
+  s.rank = std::min(14, *s.rank + static_cast<int>(p.rank_penalty));
+}
+
+void apply_sight_rank_penalty(RoadGraph& graph, const SightParameters& p) {
+  for (Segment& s : graph.segments) apply_sight_rank_penalty(s, p);
 }
 
 }  // namespace roadcross::preprocess

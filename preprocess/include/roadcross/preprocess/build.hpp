@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -28,6 +29,16 @@ struct BuildOptions {
   std::string country;         ///< ISO code for implicit speed limits; empty: detect
   bool show_progress = false;
   std::string tool_version;
+  /// Tests only (the CLI sets none): where a test makes the build's threads fail, or wait.
+  struct TestHooks {
+    /// On a sight thread, after each chunk of segments it finished: how many segments are final
+    /// (the prefix the segment rows are written from).
+    std::function<void(std::size_t final_segments)> after_sight_chunk;
+    /// On the thread writing the segment rows during the sight stage, before rows [begin, end).
+    std::function<void(std::size_t begin, std::size_t end)> before_row_batch;
+    /// Rows of such a batch; 0: the build's own.
+    std::size_t row_batch = 0;
+  } test_hooks;
 };
 
 struct BuildSummary {

@@ -28,5 +28,7 @@ int rank_of(int curvature_cost, int class_cost, std::optional<int> elevation_cos
 /// Fills rank and score of every segment (run after every cost stage); puts the reasons in
 /// canonical order.
 void compute_ranks(RoadGraph& graph, const RankParameters& parameters);
+/// The same for one segment of `graph` (its terms do not change after the cost stages).
+void compute_rank(const RoadGraph& graph, Segment& segment, const RankParameters& parameters);
 
 }  // namespace roadcross::preprocess

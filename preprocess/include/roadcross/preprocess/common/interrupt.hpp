@@ -5,9 +5,10 @@
 
 namespace roadcross::preprocess {
 
-/// Suffix of the side database the GeoPackage writer fills on its second thread
-/// (`<temporary output>-rows`), removed when its rows are copied in; AtomicOutput and the
-/// handlers remove it too.
+/// Suffix of the side database the GeoPackage writer fills on its second thread in a build
+/// without the sight stage (`<temporary output>-rows`; with it, the rows are written beside that
+/// stage instead), removed when its rows are copied in; AtomicOutput and the handlers remove it
+/// too.
 inline constexpr const char* kSideRowsSuffix = "-rows";
 
 /// Installs the handlers. Call once from main() of a tool that writes via AtomicOutput.

@@ -9,6 +9,8 @@
 #include <thread>
 #include <vector>
 
+#include "roadcross/preprocess/common/done_prefix.hpp"
+
 namespace roadcross::preprocess {
 
 /// Threads the build's parallel stages use: the machine's cores, in [1, 16].
@@ -21,10 +23,12 @@ inline unsigned core_count() {
 /// when it has finished its last ones, so uneven items balance, and owns one default-constructed
 /// State for all its items (reused buffers, counters). A job may write only what belongs to its
 /// own item. The first exception stops every thread at its next item and is rethrown here.
-/// Returns the threads' states, for their counters.
+/// Returns the threads' states, for their counters. `done` (optional, of `count` items) is told
+/// of every finished chunk, and abandoned at the first exception; its Stopped (the consumer
+/// failed) stops the threads like a job's exception.
 template <typename State, typename Job>
 std::vector<State> parallel_for(std::size_t count, const Job& job, std::size_t chunk = 1,
-                                unsigned max_threads = 16) {
+                                unsigned max_threads = 16, DonePrefix* done = nullptr) {
   const unsigned threads = std::max(1u, std::min(core_count(), max_threads));
   chunk = std::max<std::size_t>(chunk, 1);
   std::vector<State> states(threads);
@@ -36,10 +40,12 @@ std::vector<State> parallel_for(std::size_t count, const Job& job, std::size_t c
       for (std::size_t begin; !failed && (begin = next.fetch_add(chunk)) < count;) {
         const std::size_t end = std::min(begin + chunk, count);
         for (std::size_t k = begin; k < end; ++k) job(k, states[thread]);
+        if (done) done->done(begin, end);
       }
     } catch (...) {
       errors[thread] = std::current_exception();
       failed = true;
+      if (done) done->abandon();
     }
   };
   std::vector<std::thread> others;

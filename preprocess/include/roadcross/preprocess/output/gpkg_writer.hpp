@@ -2,6 +2,10 @@
 // everything goes to a temporary file beside the target, renamed over it only on success.
 #pragma once
 
+#include <atomic>
+#include <cstddef>
+#include <functional>
+#include <future>
 #include <memory>
 #include <optional>
 #include <string>
@@ -9,6 +13,7 @@
 #include <vector>
 
 #include "roadcross/files/atomic_file.hpp"
+#include "roadcross/preprocess/common/done_prefix.hpp"
 #include "roadcross/preprocess/context/crossings.hpp"
 #include "roadcross/preprocess/graph/segments.hpp"
 
@@ -33,7 +38,8 @@ struct DatabaseContents {
 };
 
 /// The build's temporary output (files::AtomicFile, with SQLite's "-journal" and the writer's
-/// "-rows" side file), registered with the interrupt handlers; removed unless committed.
+/// "-rows" side file of a build without the sight stage), registered with the interrupt handlers;
+/// removed unless committed.
 class AtomicOutput {
  public:
   /// Creates `<target>.tmp-XXXXXX` beside `target`; throws OutputError naming the target if the
@@ -63,6 +69,16 @@ class AtomicOutput {
 ///     index.get();
 ///     writer.finish(contents, progress);  // segment rows, crossings, metadata; closes the file
 ///
+/// or, with the segment rows written on a thread of their own while the sight stage computes
+/// the last fields (the rows become final in a growing prefix, DonePrefix):
+///
+///     index.get();
+///     auto rows = std::async(std::launch::async, [&] {
+///       writer.write_segment_rows_as_final(graph, metadata, done, before_batch, batch);
+///     });
+///     compute_sight(graph, ..., &done);
+///     writer.finish(contents, progress, &rows);  // waits for the rows, then writes the rest
+///
 /// Methods throw OutputError (SQLite's message); the caller removes the file (AtomicOutput).
 class GeoPackageWriter {
  public:
@@ -75,17 +91,35 @@ class GeoPackageWriter {
 
   /// The segments' R*Tree and extent. Reads only the segments' ids and lines.
   void write_segment_index(const RoadGraph& graph);
+  /// The segment rows, in fid order, inserted on the calling thread while another stage (the
+  /// producer of `final_segments`) still fills their last fields: each batch of rows as soon as
+  /// its segments are final, at least `batch_rows` rows a batch (fewer at the end). First
+  /// `before_batch(begin, end)` fills what the rows [begin, end) need that the producer does not
+  /// (their ranks). Each batch's pages are written out and their memory released after it, so
+  /// the page cache does not add to the producer's memory. After write_segment_index(); `metadata`:
+  /// the build's parameters (the stored verdict's). Throws OutputError (a full disk), or
+  /// DonePrefix::Abandoned when the producer stops; stop `final_segments` on any exception.
+  void write_segment_rows_as_final(
+      const RoadGraph& graph, const std::vector<std::pair<std::string, std::string>>& metadata,
+      DonePrefix& final_segments, const std::function<void(std::size_t, std::size_t)>& before_batch,
+      std::size_t batch_rows);
   /// Everything else, after write_segment_index() of the same graph has returned; commits.
-  void finish(const DatabaseContents& contents, Progress& progress);
+  /// `streamed_rows`: the future of a write_segment_rows_as_final() call, waited for (its
+  /// progress shown, its exception rethrown) in place of writing the segment rows.
+  void finish(const DatabaseContents& contents, Progress& progress,
+              std::future<void>* streamed_rows = nullptr);
 
  private:
-  void write_rows_and_metadata(const DatabaseContents& contents, Progress& progress);
+  void write_rows_and_metadata(const DatabaseContents& contents, Progress& progress,
+                               std::future<void>* streamed_rows);
 
   geo::UtmZone zone_;
   std::string path_;
   std::unique_ptr<sqlite::Database> db_;
   schema::Envelope segment_extent_{};
   std::optional<std::size_t> indexed_segments_;
+  /// Segment rows write_segment_rows_as_final() has inserted (read by finish()'s progress).
+  std::atomic<std::size_t> streamed_rows_{0};
 };
 
 }  // namespace roadcross::preprocess

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "roadcross/geo.hpp"
+#include "roadcross/preprocess/common/done_prefix.hpp"
 #include "roadcross/preprocess/common/id_buckets.hpp"
 #include "roadcross/preprocess/common/parameter_spec.hpp"
 #include "roadcross/preprocess/graph/segments.hpp"
@@ -151,12 +152,17 @@ struct SightReport {
 /// elevation grid (nullptr: flat ground); road surface elevations are taken from it, and from
 /// elevation_m at the robot's own segment (bridges). Uses every core. The answers do not depend
 /// on the order of the edges; their order in memory only makes it faster (see
-/// ObstacleReader::take_edges).
+/// ObstacleReader::take_edges). `done` (optional, of graph.segments.size() items) is told which
+/// segments are final as the threads finish them, so that they can be written meanwhile; the
+/// segments are taken in chunks in index order, so they become final roughly as a growing prefix.
+/// A stop of `done`'s consumer ends the stage with DonePrefix::Stopped.
 SightReport compute_sight(RoadGraph& graph, const Grid* terrain, const ObstacleEdges& obstacles,
-                          const SightParameters& parameters);
+                          const SightParameters& parameters, DonePrefix* done = nullptr);
 
 /// In cost mode (limited_visibility_unsuitable = 0), adds rank_penalty to the rank of every
 /// LIMITED_VISIBILITY segment (clamped to 14) and recomputes its score; run after the ranks.
 void apply_sight_rank_penalty(RoadGraph& graph, const SightParameters& parameters);
+/// The same for one segment (after its rank and its sight).
+void apply_sight_rank_penalty(Segment& segment, const SightParameters& parameters);
 
 }  // namespace roadcross::preprocess
