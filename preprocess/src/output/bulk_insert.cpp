@@ -148,6 +148,10 @@ sqlite3_module feed_module() {
 
 }  // namespace
 
+void RowSource::digest_row(std::size_t /*row*/, mapcheck::ColumnsDigester& /*digester*/) const {
+  throw std::logic_error("this RowSource computes no digests of its rows");
+}
+
 void insert_rows(sqlite3* db, std::string_view table, std::string_view column_list,
                  const RowSource& source,
                  const std::function<void(std::size_t rows_done)>& on_progress) {

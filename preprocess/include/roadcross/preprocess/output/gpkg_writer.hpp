@@ -2,6 +2,8 @@
 // everything goes to a temporary file beside the target, renamed over it only on success.
 #pragma once
 
+#include <atomic>
+#include <future>
 #include <memory>
 #include <optional>
 #include <string>
@@ -9,6 +11,7 @@
 #include <vector>
 
 #include "roadcross/files/atomic_file.hpp"
+#include "roadcross/mapcheck/content_hash.hpp"
 #include "roadcross/preprocess/context/crossings.hpp"
 #include "roadcross/preprocess/graph/segments.hpp"
 
@@ -62,6 +65,7 @@ class AtomicOutput {
 ///     ...  // cost stages: they must not change the segments' number, ids or lines
 ///     index.get();
 ///     writer.finish(contents, progress);  // segment rows, crossings, metadata; closes the file
+///     mapcheck::stamp_map_id(path, threads, writer.segment_digest());
 ///
 /// Methods throw OutputError (SQLite's message); the caller removes the file (AtomicOutput).
 class GeoPackageWriter {
@@ -76,7 +80,12 @@ class GeoPackageWriter {
   /// The segments' R*Tree and extent. Reads only the segments' ids and lines.
   void write_segment_index(const RoadGraph& graph);
   /// Everything else, after write_segment_index() of the same graph has returned; commits.
+  /// Also starts computing the segments table's digests from the rows it writes, on a thread of
+  /// its own, which reads the graph until segment_digest() returns (or the writer is destroyed).
   void finish(const DatabaseContents& contents, Progress& progress);
+  /// The segments table's column digests computed from the rows finish() wrote (not read back
+  /// from the file): waits for them. Once, after finish(). Throws what the digester threw.
+  mapcheck::WrittenTableDigest segment_digest();
 
  private:
   void write_rows_and_metadata(const DatabaseContents& contents, Progress& progress);
@@ -86,6 +95,10 @@ class GeoPackageWriter {
   std::unique_ptr<sqlite::Database> db_;
   schema::Envelope segment_extent_{};
   std::optional<std::size_t> indexed_segments_;
+  /// Set by the destructor: the digest thread stops early. Declared before the future, whose
+  /// destruction waits for the thread.
+  std::atomic<bool> stop_digest_{false};
+  std::future<mapcheck::WrittenTableDigest> segment_digest_;
 };
 
 }  // namespace roadcross::preprocess
