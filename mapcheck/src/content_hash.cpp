@@ -364,24 +364,14 @@ struct ColumnsDigester::State {
   std::vector<DeclaredColumn> columns;
   std::vector<Affinity> affinities;
   std::vector<Sha256> hashes;
-  std::size_t column = 0;  ///< the next value's, in the current row
   std::uint64_t rows = 0;
   std::optional<std::int64_t> first_rowid, last_rowid;
 
-  /// The next value's column; throws when the row has all its values.
-  std::size_t next(std::string_view what) {
-    if (column >= columns.size()) {
-      throw std::logic_error("ColumnsDigester: " + table + " row " + std::to_string(rows + 1) +
-                             " has more than " + std::to_string(columns.size()) + " values (" +
-                             std::string(what) + ")");
-    }
-    return column++;
-  }
   [[noreturn]] void refuse(std::size_t index, std::string_view what) const {
     throw std::logic_error("ColumnsDigester: " + std::string(what) + " for " + table + "." +
                            columns[index].name + " (" + columns[index].declared_type + "), row " +
                            std::to_string(rows + 1) +
-                           ": SQLite would convert it; the writer must not produce it");
+                           ": SQLite would not store it as given; the writer must not produce it");
   }
   /// An INTEGER value as stored in column `index` (after its affinity).
   void stored_integer(std::size_t index, std::int64_t value) {
@@ -391,6 +381,40 @@ struct ColumnsDigester::State {
       last_rowid = value;
     }
     hash_integer(hashes[index], value);
+  }
+  void integer(std::size_t index, std::int64_t value) {
+    switch (affinities[index]) {
+      case Affinity::text:
+        refuse(index, "an INTEGER");
+      case Affinity::real:
+        return hash_real(hashes[index], static_cast<double>(value));
+      default:
+        return stored_integer(index, value);
+    }
+  }
+  void real(std::size_t index, double value) {
+    // sqlite3_result_double and sqlite3_bind_double store a NaN as NULL.
+    if (std::isnan(value)) return null(index);
+    const Affinity affinity = affinities[index];
+    if (affinity == Affinity::text) refuse(index, "a REAL");
+    if (affinity == Affinity::blob) return hash_real(hashes[index], value);
+    const std::optional<std::int64_t> whole = integral(value);
+    if (!whole) return hash_real(hashes[index], value);
+    if (affinity == Affinity::real) return hash_real(hashes[index], static_cast<double>(*whole));
+    stored_integer(index, *whole);
+  }
+  void null(std::size_t index) {
+    if (columns[index].rowid) refuse(index, "a NULL rowid");
+    hash_null(hashes[index]);
+  }
+  void text(std::size_t index, std::string_view value) {
+    const Affinity affinity = affinities[index];
+    if (affinity != Affinity::text && affinity != Affinity::blob) refuse(index, "a TEXT");
+    hash_bytes(hashes[index], 'T', value);
+  }
+  void blob(std::size_t index, std::string_view bytes) {
+    if (columns[index].rowid) refuse(index, "a BLOB rowid");
+    hash_bytes(hashes[index], 'B', bytes);
   }
 };
 
@@ -408,63 +432,34 @@ ColumnsDigester::ColumnsDigester(ColumnsDigester&&) noexcept = default;
 ColumnsDigester& ColumnsDigester::operator=(ColumnsDigester&&) noexcept = default;
 ColumnsDigester::~ColumnsDigester() = default;
 
-void ColumnsDigester::null() {
-  const std::size_t index = state_->next("NULL");
-  if (state_->columns[index].rowid) state_->refuse(index, "a NULL rowid");
-  hash_null(state_->hashes[index]);
-}
-
-void ColumnsDigester::integer(std::int64_t value) {
-  const std::size_t index = state_->next("INTEGER");
-  switch (state_->affinities[index]) {
-    case Affinity::text:
-      state_->refuse(index, "an INTEGER");
-    case Affinity::real:
-      return hash_real(state_->hashes[index], static_cast<double>(value));
-    default:
-      return state_->stored_integer(index, value);
+void ColumnsDigester::add_row(std::span<const RowValue> row) {
+  State& state = *state_;
+  if (row.size() != state.columns.size()) {
+    throw std::logic_error("ColumnsDigester: " + state.table + " row " +
+                           std::to_string(state.rows + 1) + " has " + std::to_string(row.size()) +
+                           " values, not " + std::to_string(state.columns.size()));
   }
-}
-
-void ColumnsDigester::real(double value) {
-  const std::size_t index = state_->next("REAL");
-  // sqlite3_result_double and sqlite3_bind_double store a NaN as NULL.
-  if (std::isnan(value)) {
-    if (state_->columns[index].rowid) state_->refuse(index, "a NaN (NULL) rowid");
-    return hash_null(state_->hashes[index]);
+  for (std::size_t i = 0; i < row.size(); ++i) {
+    const RowValue& value = row[i];
+    switch (value.type) {
+      case RowValue::Type::null:
+        state.null(i);
+        break;
+      case RowValue::Type::integer:
+        state.integer(i, value.integer);
+        break;
+      case RowValue::Type::real:
+        state.real(i, value.real);
+        break;
+      case RowValue::Type::text:
+        state.text(i, value.bytes);
+        break;
+      case RowValue::Type::blob:
+        state.blob(i, value.bytes);
+        break;
+    }
   }
-  const Affinity affinity = state_->affinities[index];
-  if (affinity == Affinity::text) state_->refuse(index, "a REAL");
-  if (affinity == Affinity::blob) return hash_real(state_->hashes[index], value);
-  const std::optional<std::int64_t> whole = integral(value);
-  if (!whole) return hash_real(state_->hashes[index], value);
-  if (affinity == Affinity::real) {
-    return hash_real(state_->hashes[index], static_cast<double>(*whole));
-  }
-  state_->stored_integer(index, *whole);
-}
-
-void ColumnsDigester::text(std::string_view value) {
-  const std::size_t index = state_->next("TEXT");
-  const Affinity affinity = state_->affinities[index];
-  if (affinity != Affinity::text && affinity != Affinity::blob) state_->refuse(index, "a TEXT");
-  hash_bytes(state_->hashes[index], 'T', value);
-}
-
-void ColumnsDigester::blob(std::string_view bytes) {
-  const std::size_t index = state_->next("BLOB");
-  if (state_->columns[index].rowid) state_->refuse(index, "a BLOB rowid");
-  hash_bytes(state_->hashes[index], 'B', bytes);
-}
-
-void ColumnsDigester::end_row() {
-  if (state_->column != state_->columns.size()) {
-    throw std::logic_error(
-        "ColumnsDigester: " + state_->table + " row " + std::to_string(state_->rows + 1) + " has " +
-        std::to_string(state_->column) + " values, not " + std::to_string(state_->columns.size()));
-  }
-  state_->column = 0;
-  ++state_->rows;
+  ++state.rows;
 }
 
 std::uint64_t ColumnsDigester::rows() const noexcept {
@@ -472,7 +467,6 @@ std::uint64_t ColumnsDigester::rows() const noexcept {
 }
 
 WrittenTableDigest ColumnsDigester::finish() {
-  if (state_->column != 0) throw std::logic_error("ColumnsDigester::finish in the middle of a row");
   State state = std::move(*state_);
   state_.reset();
   WrittenTableDigest out{state.table, std::move(state.columns), {},

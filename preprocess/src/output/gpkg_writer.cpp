@@ -1,6 +1,7 @@
 #include "roadcross/preprocess/output/gpkg_writer.hpp"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdio>
@@ -74,18 +75,40 @@ struct SqliteValue {
   }
 };
 
-/// The same values handed to the table's digester (mapcheck::ColumnsDigester), which takes each
-/// through its column's affinity as SQLite stores it.
-struct DigestedValue {
-  mapcheck::ColumnsDigester& digester;
-  void null() { digester.null(); }
-  void integer(std::int64_t value) { digester.integer(value); }
-  void real(double value) { digester.real(value); }
-  void lasting_text(std::string_view text) { digester.text(text); }
-  void text(std::string_view text) { digester.text(text); }
-  void blob(const std::vector<std::uint8_t>& bytes) {
-    digester.blob({reinterpret_cast<const char*>(bytes.data()), bytes.size()});
+/// The same values gathered into a row for the table's digester (mapcheck::ColumnsDigester),
+/// which takes each through its column's affinity as SQLite stores it. A text or blob that does
+/// not outlive the call is kept here, one buffer a column (reused row after row), until the row
+/// is digested.
+template <std::size_t kColumns>
+class DigestedRow {
+ public:
+  void null() { add({}); }
+  void integer(std::int64_t value) { add(mapcheck::RowValue::of_integer(value)); }
+  void real(double value) { add(mapcheck::RowValue::of_real(value)); }
+  void lasting_text(std::string_view text) { add(mapcheck::RowValue::of_text(text)); }
+  void text(std::string_view text) {
+    std::string& kept = texts_.at(next_);
+    kept.assign(text);
+    add(mapcheck::RowValue::of_text(kept));
   }
+  void blob(std::vector<std::uint8_t> bytes) {
+    std::vector<std::uint8_t>& kept = blobs_.at(next_);
+    kept = std::move(bytes);
+    add(mapcheck::RowValue::of_blob({reinterpret_cast<const char*>(kept.data()), kept.size()}));
+  }
+  /// Hands the row to `digester` and starts the next one.
+  void digest(mapcheck::ColumnsDigester& digester) {
+    const std::size_t count = next_;
+    next_ = 0;
+    digester.add_row({values_.data(), count});
+  }
+
+ private:
+  void add(const mapcheck::RowValue& value) { values_.at(next_++) = value; }
+  std::array<mapcheck::RowValue, kColumns> values_{};
+  std::array<std::string, kColumns> texts_;
+  std::array<std::vector<std::uint8_t>, kColumns> blobs_;
+  std::size_t next_ = 0;
 };
 
 template <typename Out>
@@ -143,12 +166,11 @@ class SegmentRows final : public RowSource {
     put(row, column, value);
   }
 
-  /// Row `row` as column() gives it to SQLite, the fid included.
+  /// Row `row` as column() gives it to SQLite, the fid included. One thread per SegmentRows.
   void digest_row(std::size_t row, mapcheck::ColumnsDigester& digester) const override {
-    digester.integer(RoadGraph::id_at(first_ + row));
-    DigestedValue value{digester};
-    for (int column = 1; column < kColumns; ++column) put(row, column, value);
-    digester.end_row();
+    digested_.integer(RoadGraph::id_at(first_ + row));
+    for (int column = 1; column < kColumns; ++column) put(row, column, digested_);
+    digested_.digest(digester);
   }
 
  private:
@@ -290,6 +312,8 @@ class SegmentRows final : public RowSource {
   SuitabilityRule rule_;
   std::size_t first_, count_;
   std::int32_t srs_id_;
+  /// digest_row's row, its buffers reused.
+  mutable DigestedRow<kColumns> digested_;
 };
 
 /// The segments table's digests computed from its rows as SegmentRows gives them to SQLite, in

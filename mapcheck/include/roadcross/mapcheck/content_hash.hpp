@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -75,9 +76,24 @@ struct WrittenTableDigest {
   std::optional<std::int64_t> first_rowid, last_rowid;
 };
 
-/// The column digests of one hashed table computed from the rows as they are written, in the
-/// table's hashed order (segments and crossings: ascending fid), on one thread: for each row one
-/// value per column, in column order, then end_row(); finish() at the end.
+/// One value of a row for ColumnsDigester::add_row, as a writer hands it to SQLite: its type
+/// and content (text and blob bytes viewed, not copied).
+struct RowValue {
+  enum class Type : std::uint8_t { null, integer, real, text, blob };
+  Type type = Type::null;
+  std::int64_t integer = 0;
+  double real = 0.0;
+  std::string_view bytes;
+
+  static RowValue of_integer(std::int64_t value) { return {Type::integer, value, 0.0, {}}; }
+  static RowValue of_real(double value) { return {Type::real, 0, value, {}}; }
+  static RowValue of_text(std::string_view text) { return {Type::text, 0, 0.0, text}; }
+  static RowValue of_blob(std::string_view bytes) { return {Type::blob, 0, 0.0, bytes}; }
+};
+
+/// The column digests of one hashed table computed from the rows as they are written, fed one
+/// row at a time (one value per column, in column order), in the table's hashed order (segments
+/// and crossings: ascending fid), from one thread; finish() at the end.
 ///
 /// The digests are of what a reader gets back from the file, so each value is taken through the
 /// column's affinity (from its declared type, SQLite's rules: sqlite.org/datatype3.html) as
@@ -90,9 +106,9 @@ struct WrittenTableDigest {
 ///    -0.0 comes back as +0.0;
 ///  - a column of no (or BLOB) affinity, NULLs and BLOBs: unchanged.
 /// Conversions between TEXT and numbers (a numeric text in a numeric column, a number in a TEXT
-/// column) and a NULL for the rowid (SQLite assigns one) throw std::logic_error instead of being
-/// mirrored: the writers never produce them. So do a rowid not above the previous row's, and a
-/// row with more or fewer values than columns.
+/// column) and a rowid that is NULL (SQLite assigns one), not an integer or not above the previous
+/// row's throw std::logic_error instead of being mirrored: the writers never produce them. So
+/// does a row with more or fewer values than columns.
 class ColumnsDigester {
  public:
   ColumnsDigester(std::string table, std::vector<DeclaredColumn> columns);
@@ -100,17 +116,11 @@ class ColumnsDigester {
   ColumnsDigester& operator=(ColumnsDigester&&) noexcept;
   ~ColumnsDigester();
 
-  /// The next value of the current row.
-  void null();
-  void integer(std::int64_t value);
-  void real(double value);
-  void text(std::string_view value);
-  void blob(std::string_view bytes);
-  /// Ends the current row: every column must have had its value.
-  void end_row();
+  /// The next row, one value per column. After an exception the digests are of no use.
+  void add_row(std::span<const RowValue> row);
 
   std::uint64_t rows() const noexcept;
-  /// The digests of the rows so far; the digester is spent. Throws std::logic_error mid-row.
+  /// The digests of the rows so far; the digester is spent.
   WrittenTableDigest finish();
 
  private:
