@@ -174,6 +174,12 @@ void insert_rows(sqlite3* db, std::string_view table, std::string_view column_li
                                    ") SELECT * FROM " + name);
   insert.run();
   const std::size_t rows = source.row_count();
+  // Every row went in (what the table's digests computed from the source count on).
+  if (const sqlite3_int64 inserted = sqlite3_changes64(db);
+      inserted != static_cast<sqlite3_int64>(rows)) {
+    throw std::logic_error("insert_rows: " + std::to_string(inserted) + " rows of " +
+                           std::to_string(rows) + " went into " + std::string(table));
+  }
   if (rows == 0 || !source.ascending_rowid(0)) return;
   sqlite::Statement last(db, "SELECT max(rowid) FROM " + quoted_table);
   if (!last.step() || last.column_int64(0) != *source.ascending_rowid(rows - 1)) {

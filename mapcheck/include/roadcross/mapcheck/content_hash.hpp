@@ -137,8 +137,9 @@ std::string stamp_map_id(const std::string& path, unsigned threads = 1);
 
 /// The same, with the digests of `written.table` taken from `written` instead of read back: only
 /// the other tables are read from the file. Before they are used, the file's table must have the
-/// same columns (names, declared types, rowid) and the same number of rows with the same first
-/// and last rowid; otherwise throws std::logic_error and stamps nothing.
+/// same columns (names, declared types, rowid) and the same first and last rowid; otherwise
+/// throws std::logic_error and stamps nothing. Its rows are not counted (that walks every page
+/// of the table): the writer makes sure each row it digested went in (insert_rows checks).
 std::string stamp_map_id(const std::string& path, unsigned threads,
                          const WrittenTableDigest& written);
 

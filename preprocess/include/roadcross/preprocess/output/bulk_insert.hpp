@@ -50,7 +50,8 @@ class RowSource {
 /// Runs `INSERT INTO <table> (<column_list>) SELECT * FROM <virtual table over source>` on `db`
 /// (in the caller's transaction); `column_list` names source.column_count() columns, comma
 /// separated. `on_progress(rows_done)` is called every 4096 rows. Throws sqlite::sqlite_error
-/// with SQLite's message (or a RowSource exception's) on failure, and std::logic_error when an
+/// with SQLite's message (or a RowSource exception's) on failure, and std::logic_error when not
+/// every row was inserted (a table whose constraints ignore conflicts, say) or an
 /// ascending_rowid() source's last row did not get its rowid (the table had larger ones).
 void insert_rows(sqlite3* db, std::string_view table, std::string_view column_list,
                  const RowSource& source,
