@@ -8,6 +8,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <future>
 #include <memory>
 #include <optional>
@@ -27,6 +28,12 @@ namespace {
 
 using Digest = std::array<std::uint8_t, 32>;
 
+/// The 8 bytes of `value`, most significant first.
+std::array<std::uint8_t, 8> big_endian(std::uint64_t value) {
+  if constexpr (std::endian::native == std::endian::little) value = __builtin_bswap64(value);
+  return std::bit_cast<std::array<std::uint8_t, 8>>(value);
+}
+
 /// An incremental SHA-256 (OpenSSL's EVP interface). The bytes are gathered in a buffer and
 /// handed to OpenSSL kBufferBytes at a time: the digest of the same byte stream, but a value of
 /// 9 bytes no longer costs an EVP call of its own (each call's overhead is many times the
@@ -37,23 +44,21 @@ class Sha256 {
     if (!context_ || EVP_DigestInit_ex(context_.get(), EVP_sha256(), nullptr) != 1) {
       throw std::runtime_error("OpenSSL: cannot initialise SHA-256");
     }
-    buffer_.reserve(kBufferBytes);
   }
   void update(const void* bytes, std::size_t size) {
-    if (buffer_.size() + size > kBufferBytes) flush();
+    if (used_ + size > kBufferBytes) flush();
     if (size >= kBufferBytes) {
       hash(bytes, size);  // a large value goes straight through
       return;
     }
-    const auto* first = static_cast<const char*>(bytes);
-    buffer_.append(first, size);
+    // (A plain copy: a value is a few bytes, and this runs for each of tens of millions.)
+    std::memcpy(buffer_.get() + used_, bytes, size);
+    used_ += size;
   }
   void update_byte(std::uint8_t byte) { update(&byte, 1); }
   void update_u64(std::uint64_t value) {
-    std::array<std::uint8_t, 8> big_endian{};
-    for (int i = 7; i >= 0; --i, value >>= 8)
-      big_endian[static_cast<std::size_t>(i)] = value & 0xff;
-    update(big_endian.data(), big_endian.size());
+    const std::array<std::uint8_t, 8> bytes = big_endian(value);
+    update(bytes.data(), bytes.size());
   }
   /// Length-prefixed bytes: 8-byte big-endian length, then the bytes.
   void update_sized(std::string_view bytes) {
@@ -73,8 +78,8 @@ class Sha256 {
  private:
   static constexpr std::size_t kBufferBytes = 16 * 1024;
   void flush() {
-    hash(buffer_.data(), buffer_.size());
-    buffer_.clear();
+    hash(buffer_.get(), used_);
+    used_ = 0;
   }
   void hash(const void* bytes, std::size_t size) {
     if (size > 0 && EVP_DigestUpdate(context_.get(), bytes, size) != 1) {
@@ -82,7 +87,9 @@ class Sha256 {
     }
   }
   std::unique_ptr<EVP_MD_CTX, decltype(&EVP_MD_CTX_free)> context_;
-  std::string buffer_;
+  std::unique_ptr<std::uint8_t[]> buffer_ =
+      std::make_unique_for_overwrite<std::uint8_t[]>(kBufferBytes);
+  std::size_t used_ = 0;
 };
 
 std::string hex(const Digest& digest) {
@@ -98,9 +105,10 @@ std::string hex(const Digest& digest) {
 
 /// A type byte and an 8-byte big-endian payload, in one update.
 void update_fixed(Sha256& sha, char type, std::uint64_t payload) {
-  std::array<std::uint8_t, 9> bytes{};
+  std::array<std::uint8_t, 9> bytes;
   bytes[0] = static_cast<std::uint8_t>(type);
-  for (std::size_t i = 8; i >= 1; --i, payload >>= 8) bytes[i] = payload & 0xff;
+  const std::array<std::uint8_t, 8> payload_bytes = big_endian(payload);
+  std::memcpy(bytes.data() + 1, payload_bytes.data(), payload_bytes.size());
   sha.update(bytes.data(), bytes.size());
 }
 
