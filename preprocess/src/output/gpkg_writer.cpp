@@ -175,7 +175,7 @@ class SegmentRows final : public RowSource {
 
  private:
   /// Value `column` (1 .. kColumns - 1) of row `row`, put into `out` (SqliteValue or
-  /// DigestedValue): the one place that says what the file holds.
+  /// DigestedRow): the one place that says what the file holds.
   template <typename Out>
   void put(std::size_t row, int column, Out& out) const {
     const std::size_t index = first_ + row;

@@ -40,10 +40,10 @@ class RowSource {
   virtual std::optional<std::int64_t> ascending_rowid(std::size_t /*row*/) const {
     return std::nullopt;
   }
-  /// Feeds row `row`'s values, as column() gives them to SQLite, to `digester` (the rowid as
-  /// the table gets it, not NULL), then ends the row: the per-row hook with which whoever feeds
-  /// the rows computes the table's digests from them (rows in the table's hashed order, one
-  /// thread). The default throws std::logic_error: a source without digests.
+  /// Hands row `row`'s values, as column() gives them to SQLite, to `digester` as one row
+  /// (ColumnsDigester::add_row; the rowid as the table gets it, not NULL): the per-row hook with
+  /// which whoever feeds the rows computes the table's digests from them (rows in the table's
+  /// hashed order, one thread). The default throws std::logic_error: a source without digests.
   virtual void digest_row(std::size_t row, mapcheck::ColumnsDigester& digester) const;
 };
 
