@@ -5,9 +5,13 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cctype>
+#include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <future>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -24,6 +28,12 @@ namespace {
 
 using Digest = std::array<std::uint8_t, 32>;
 
+/// The 8 bytes of `value`, most significant first.
+std::array<std::uint8_t, 8> big_endian(std::uint64_t value) {
+  if constexpr (std::endian::native == std::endian::little) value = __builtin_bswap64(value);
+  return std::bit_cast<std::array<std::uint8_t, 8>>(value);
+}
+
 /// An incremental SHA-256 (OpenSSL's EVP interface). The bytes are gathered in a buffer and
 /// handed to OpenSSL kBufferBytes at a time: the digest of the same byte stream, but a value of
 /// 9 bytes no longer costs an EVP call of its own (each call's overhead is many times the
@@ -34,23 +44,21 @@ class Sha256 {
     if (!context_ || EVP_DigestInit_ex(context_.get(), EVP_sha256(), nullptr) != 1) {
       throw std::runtime_error("OpenSSL: cannot initialise SHA-256");
     }
-    buffer_.reserve(kBufferBytes);
   }
   void update(const void* bytes, std::size_t size) {
-    if (buffer_.size() + size > kBufferBytes) flush();
+    if (used_ + size > kBufferBytes) flush();
     if (size >= kBufferBytes) {
       hash(bytes, size);  // a large value goes straight through
       return;
     }
-    const auto* first = static_cast<const char*>(bytes);
-    buffer_.append(first, size);
+    // (A plain copy: a value is a few bytes, and this runs for each of tens of millions.)
+    std::memcpy(buffer_.get() + used_, bytes, size);
+    used_ += size;
   }
   void update_byte(std::uint8_t byte) { update(&byte, 1); }
   void update_u64(std::uint64_t value) {
-    std::array<std::uint8_t, 8> big_endian{};
-    for (int i = 7; i >= 0; --i, value >>= 8)
-      big_endian[static_cast<std::size_t>(i)] = value & 0xff;
-    update(big_endian.data(), big_endian.size());
+    const std::array<std::uint8_t, 8> bytes = big_endian(value);
+    update(bytes.data(), bytes.size());
   }
   /// Length-prefixed bytes: 8-byte big-endian length, then the bytes.
   void update_sized(std::string_view bytes) {
@@ -70,8 +78,8 @@ class Sha256 {
  private:
   static constexpr std::size_t kBufferBytes = 16 * 1024;
   void flush() {
-    hash(buffer_.data(), buffer_.size());
-    buffer_.clear();
+    hash(buffer_.get(), used_);
+    used_ = 0;
   }
   void hash(const void* bytes, std::size_t size) {
     if (size > 0 && EVP_DigestUpdate(context_.get(), bytes, size) != 1) {
@@ -79,7 +87,9 @@ class Sha256 {
     }
   }
   std::unique_ptr<EVP_MD_CTX, decltype(&EVP_MD_CTX_free)> context_;
-  std::string buffer_;
+  std::unique_ptr<std::uint8_t[]> buffer_ =
+      std::make_unique_for_overwrite<std::uint8_t[]>(kBufferBytes);
+  std::size_t used_ = 0;
 };
 
 std::string hex(const Digest& digest) {
@@ -95,40 +105,49 @@ std::string hex(const Digest& digest) {
 
 /// A type byte and an 8-byte big-endian payload, in one update.
 void update_fixed(Sha256& sha, char type, std::uint64_t payload) {
-  std::array<std::uint8_t, 9> bytes{};
+  std::array<std::uint8_t, 9> bytes;
   bytes[0] = static_cast<std::uint8_t>(type);
-  for (std::size_t i = 8; i >= 1; --i, payload >>= 8) bytes[i] = payload & 0xff;
+  const std::array<std::uint8_t, 8> payload_bytes = big_endian(payload);
+  std::memcpy(bytes.data() + 1, payload_bytes.data(), payload_bytes.size());
   sha.update(bytes.data(), bytes.size());
 }
 
-/// Feeds one SQLite value in the documented encoding (type byte, then a fixed-size or
-/// length-prefixed payload). Read through sqlite3_column_value: one call into the statement
-/// a value instead of two (type, then the value), each of which takes and leaves the
-/// connection's mutex and checks for a failed allocation; the value's accessors do neither.
-/// (Safe here: one thread uses the statement's connection.)
+// One value in the documented encoding: a type byte, then a fixed-size or length-prefixed
+// payload. The file's reader (hash_value) and the writer's ColumnsDigester both go through these.
+void hash_null(Sha256& sha) {
+  sha.update_byte('N');
+}
+void hash_integer(Sha256& sha, std::int64_t value) {
+  update_fixed(sha, 'I', static_cast<std::uint64_t>(value));
+}
+void hash_real(Sha256& sha, double value) {
+  update_fixed(sha, 'R', std::bit_cast<std::uint64_t>(value));
+}
+void hash_bytes(Sha256& sha, char type, std::string_view bytes) {
+  sha.update_byte(static_cast<std::uint8_t>(type));
+  sha.update_sized(bytes);
+}
+
+/// Feeds one SQLite value. Read through sqlite3_column_value: one call into the statement a value
+/// instead of two (type, then the value), each of which takes and leaves the connection's mutex
+/// and checks for a failed allocation; the value's accessors do neither. (Safe here: one thread
+/// uses the statement's connection.)
 void hash_value(Sha256& sha, sqlite3_stmt* row, int column) {
   sqlite3_value* value = sqlite3_column_value(row, column);
   switch (sqlite3_value_type(value)) {
     case SQLITE_NULL:
-      sha.update_byte('N');
-      break;
+      return hash_null(sha);
     case SQLITE_INTEGER:
-      update_fixed(sha, 'I', static_cast<std::uint64_t>(sqlite3_value_int64(value)));
-      break;
+      return hash_integer(sha, sqlite3_value_int64(value));
     case SQLITE_FLOAT:
-      update_fixed(sha, 'R', std::bit_cast<std::uint64_t>(sqlite3_value_double(value)));
-      break;
+      return hash_real(sha, sqlite3_value_double(value));
     case SQLITE_TEXT: {
       const auto* text = reinterpret_cast<const char*>(sqlite3_value_text(value));
-      sha.update_byte('T');
-      sha.update_sized({text, static_cast<std::size_t>(sqlite3_value_bytes(value))});
-      break;
+      return hash_bytes(sha, 'T', {text, static_cast<std::size_t>(sqlite3_value_bytes(value))});
     }
     default: {  // SQLITE_BLOB
       const auto* blob = static_cast<const char*>(sqlite3_value_blob(value));
-      sha.update_byte('B');
-      sha.update_sized({blob, static_cast<std::size_t>(sqlite3_value_bytes(value))});
-      break;
+      return hash_bytes(sha, 'B', {blob, static_cast<std::size_t>(sqlite3_value_bytes(value))});
     }
   }
 }
@@ -142,10 +161,9 @@ bool has_table(sqlite3* db, std::string_view table) {
 }
 
 std::vector<std::string> column_names(sqlite3* db, std::string_view table) {
-  sqlite::Statement info(db, "SELECT name FROM pragma_table_info(?1) ORDER BY cid");
-  info.bind(1, table);
   std::vector<std::string> names;
-  while (info.step()) names.push_back(info.column_text(0));
+  for (DeclaredColumn& column : declared_columns(db, table))
+    names.push_back(std::move(column.name));
   return names;
 }
 
@@ -208,6 +226,8 @@ struct TableDigests {
   HashedTable table;
   std::vector<std::string> columns;
   std::vector<Digest> digests;
+  /// Filled from a WrittenTableDigest: not read from the file.
+  bool written = false;
 };
 
 /// The hashed tables present in `db`; throws when the metadata or segments table is missing.
@@ -238,6 +258,7 @@ std::pair<std::size_t, std::size_t> share_of(std::size_t column_count, std::size
 void digest_share(sqlite3* db, std::vector<TableDigests>& tables, std::size_t share,
                   std::size_t shares) {
   for (TableDigests& each : tables) {
+    if (each.written) continue;
     const auto [first, last] = share_of(each.columns.size(), share, shares);
     if (first == last) continue;
     std::vector<Digest> digests = digest_columns(db, each.table, each.columns, first, last);
@@ -282,12 +303,236 @@ ContentDigest compute_content_digest(sqlite3* db) {
   return assemble(tables);
 }
 
-ContentDigest compute_content_digest(const std::string& path, unsigned threads) {
+std::vector<DeclaredColumn> declared_columns(sqlite3* db, std::string_view table) {
+  sqlite::Statement info(db, "SELECT name, type, pk FROM pragma_table_info(?1) ORDER BY cid");
+  info.bind(1, table);
+  std::vector<DeclaredColumn> columns;
+  int key_columns = 0;
+  std::size_t key = 0;
+  while (info.step()) {
+    if (info.column_int64(2) > 0) {
+      ++key_columns;
+      key = columns.size();
+    }
+    columns.push_back({info.column_text(0), info.column_text(1), false});
+  }
+  if (columns.empty()) throw std::runtime_error("no table " + std::string(table));
+  // A single-column INTEGER PRIMARY KEY (that spelling exactly, any case) is the rowid.
+  if (key_columns == 1) {
+    std::string type = columns[key].declared_type;
+    std::transform(type.begin(), type.end(), type.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
+    columns[key].rowid = type == "INTEGER";
+  }
+  return columns;
+}
+
+namespace {
+
+/// A column's type affinity (sqlite.org/datatype3.html, 3.1).
+enum class Affinity { integer, text, blob, real, numeric };
+
+Affinity affinity_of(std::string declared_type) {
+  std::transform(declared_type.begin(), declared_type.end(), declared_type.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
+  const auto has = [&](std::string_view part) {
+    return declared_type.find(part) != std::string::npos;
+  };
+  if (has("INT")) return Affinity::integer;
+  if (has("CHAR") || has("CLOB") || has("TEXT")) return Affinity::text;
+  if (has("BLOB") || declared_type.empty()) return Affinity::blob;
+  if (has("REAL") || has("FLOA") || has("DOUB")) return Affinity::real;
+  return Affinity::numeric;
+}
+
+/// The integer SQLite turns a REAL into in an INTEGER, NUMERIC or REAL column
+/// (sqlite3VdbeIntegerAffinity): the value when it is integral and strictly inside the int64
+/// range. -0.0 gives 0.
+std::optional<std::int64_t> integral(double value) {
+  constexpr double kTwoTo63 = 9223372036854775808.0;
+  if (!(value > -kTwoTo63 && value < kTwoTo63) || std::trunc(value) != value) return std::nullopt;
+  return static_cast<std::int64_t>(value);
+}
+
+Digest digest_of_hex(const std::string& hex_digits) {
+  Digest digest{};
+  if (!is_map_id(hex_digits)) throw std::logic_error("not a SHA-256 digest: " + hex_digits);
+  const auto nibble = [](char c) { return c <= '9' ? c - '0' : c - 'a' + 10; };
+  for (std::size_t i = 0; i < digest.size(); ++i) {
+    digest[i] =
+        static_cast<std::uint8_t>(nibble(hex_digits[2 * i]) * 16 + nibble(hex_digits[2 * i + 1]));
+  }
+  return digest;
+}
+
+}  // namespace
+
+struct ColumnsDigester::State {
+  std::string table;
+  std::vector<DeclaredColumn> columns;
+  std::vector<Affinity> affinities;
+  std::vector<Sha256> hashes;
+  std::uint64_t rows = 0;
+  std::optional<std::int64_t> first_rowid, last_rowid;
+
+  [[noreturn]] void refuse(std::size_t index, std::string_view what) const {
+    throw std::logic_error("ColumnsDigester: " + std::string(what) + " for " + table + "." +
+                           columns[index].name + " (" + columns[index].declared_type + "), row " +
+                           std::to_string(rows + 1) +
+                           ": SQLite would not store it as given; the writer must not produce it");
+  }
+  /// An INTEGER value as stored in column `index` (after its affinity).
+  void stored_integer(std::size_t index, std::int64_t value) {
+    if (columns[index].rowid) {
+      if (last_rowid && value <= *last_rowid) refuse(index, "a rowid not above the previous");
+      if (!first_rowid) first_rowid = value;
+      last_rowid = value;
+    }
+    hash_integer(hashes[index], value);
+  }
+  void integer(std::size_t index, std::int64_t value) {
+    switch (affinities[index]) {
+      case Affinity::text:
+        refuse(index, "an INTEGER");
+      case Affinity::real:
+        return hash_real(hashes[index], static_cast<double>(value));
+      default:
+        return stored_integer(index, value);
+    }
+  }
+  void real(std::size_t index, double value) {
+    // sqlite3_result_double and sqlite3_bind_double store a NaN as NULL.
+    if (std::isnan(value)) return null(index);
+    const Affinity affinity = affinities[index];
+    if (affinity == Affinity::text) refuse(index, "a REAL");
+    if (affinity == Affinity::blob) return hash_real(hashes[index], value);
+    const std::optional<std::int64_t> whole = integral(value);
+    if (!whole) return hash_real(hashes[index], value);
+    if (affinity == Affinity::real) return hash_real(hashes[index], static_cast<double>(*whole));
+    stored_integer(index, *whole);
+  }
+  void null(std::size_t index) {
+    if (columns[index].rowid) refuse(index, "a NULL rowid");
+    hash_null(hashes[index]);
+  }
+  void text(std::size_t index, std::string_view value) {
+    const Affinity affinity = affinities[index];
+    if (affinity != Affinity::text && affinity != Affinity::blob) refuse(index, "a TEXT");
+    hash_bytes(hashes[index], 'T', value);
+  }
+  void blob(std::size_t index, std::string_view bytes) {
+    if (columns[index].rowid) refuse(index, "a BLOB rowid");
+    hash_bytes(hashes[index], 'B', bytes);
+  }
+};
+
+ColumnsDigester::ColumnsDigester(std::string table, std::vector<DeclaredColumn> columns)
+    : state_(std::make_unique<State>()) {
+  state_->table = std::move(table);
+  for (const DeclaredColumn& column : columns) {
+    state_->affinities.push_back(affinity_of(column.declared_type));
+  }
+  state_->columns = std::move(columns);
+  state_->hashes.resize(state_->columns.size());
+}
+
+ColumnsDigester::ColumnsDigester(ColumnsDigester&&) noexcept = default;
+ColumnsDigester& ColumnsDigester::operator=(ColumnsDigester&&) noexcept = default;
+ColumnsDigester::~ColumnsDigester() = default;
+
+void ColumnsDigester::add_row(std::span<const RowValue> row) {
+  State& state = *state_;
+  if (row.size() != state.columns.size()) {
+    throw std::logic_error("ColumnsDigester: " + state.table + " row " +
+                           std::to_string(state.rows + 1) + " has " + std::to_string(row.size()) +
+                           " values, not " + std::to_string(state.columns.size()));
+  }
+  for (std::size_t i = 0; i < row.size(); ++i) {
+    const RowValue& value = row[i];
+    switch (value.type) {
+      case RowValue::Type::null:
+        state.null(i);
+        break;
+      case RowValue::Type::integer:
+        state.integer(i, value.integer);
+        break;
+      case RowValue::Type::real:
+        state.real(i, value.real);
+        break;
+      case RowValue::Type::text:
+        state.text(i, value.bytes);
+        break;
+      case RowValue::Type::blob:
+        state.blob(i, value.bytes);
+        break;
+    }
+  }
+  ++state.rows;
+}
+
+std::uint64_t ColumnsDigester::rows() const noexcept {
+  return state_->rows;
+}
+
+WrittenTableDigest ColumnsDigester::finish() {
+  State state = std::move(*state_);
+  state_.reset();
+  WrittenTableDigest out{state.table, std::move(state.columns), {},
+                         state.rows,  state.first_rowid,        state.last_rowid};
+  for (std::size_t i = 0; i < out.columns.size(); ++i) {
+    out.digests.push_back({out.table, out.columns[i].name, hex(state.hashes[i].finish())});
+  }
+  return out;
+}
+
+namespace {
+
+/// Takes `written`'s digests for its table in `tables`, after checking that the file's table is
+/// the one they were computed for: the same columns, row count and first and last rowid.
+void use_written(sqlite3* db, std::vector<TableDigests>& tables,
+                 const WrittenTableDigest& written) {
+  const auto fail = [&](const std::string& what) {
+    throw std::logic_error("the digests of the rows written into " + written.table +
+                           " do not fit the file: " + what);
+  };
+  const auto table = std::find_if(tables.begin(), tables.end(), [&](const TableDigests& each) {
+    return each.table.name == written.table;
+  });
+  if (table == tables.end()) fail("no such hashed table in the file");
+  if (declared_columns(db, written.table) != written.columns) fail("other columns");
+  if (written.digests.size() != written.columns.size()) fail("not one digest per column");
+  const auto rowid = std::find_if(written.columns.begin(), written.columns.end(),
+                                  [](const DeclaredColumn& column) { return column.rowid; });
+  // The first and last rowid: two index lookups. (A count(*) would walk every page of the
+  // table, seconds at 200x; that every row went in, the writer checks: insert_rows.)
+  const std::string from = " FROM " + quoted_identifier(written.table) + ")";
+  if (written.rows == 0) {
+    sqlite::Statement any(db, "SELECT EXISTS (SELECT 1" + from);
+    any.step();
+    if (any.column_int64(0) != 0) fail("rows where none were digested");
+  } else if (rowid != written.columns.end()) {
+    const std::string name = quoted_identifier(rowid->name);
+    sqlite::Statement ends(
+        db, "SELECT (SELECT min(" + name + ")" + from + ", (SELECT max(" + name + ")" + from);
+    ends.step();
+    if (ends.column_int64(0) != written.first_rowid || ends.column_int64(1) != written.last_rowid) {
+      fail("other first or last " + rowid->name);
+    }
+  }
+  for (std::size_t i = 0; i < written.digests.size(); ++i) {
+    table->digests[i] = digest_of_hex(written.digests[i].sha256_hex);
+  }
+  table->written = true;
+}
+
+ContentDigest content_of(const std::string& path, unsigned threads,
+                         const WrittenTableDigest* written) {
   const int flags = SQLITE_OPEN_READONLY | SQLITE_OPEN_NOMUTEX;
   // Each connection walks the tables' pages mostly in file order: read ahead, not a page a call.
   const char* vfs = bulk_io_vfs();
   sqlite::Database first(path, flags, vfs);
   std::vector<TableDigests> tables = present_tables(first.handle());
+  if (written) use_written(first.handle(), tables, *written);
   const std::size_t shares = std::max(1u, threads);
   // Each share on its own connection and thread; the columns' digests do not depend on which
   // share computed them. std::async's futures wait for their threads if one share throws.
@@ -303,8 +548,7 @@ ContentDigest compute_content_digest(const std::string& path, unsigned threads) 
   return assemble(tables);
 }
 
-std::string stamp_map_id(const std::string& path, unsigned threads) {
-  const ContentDigest content = compute_content_digest(path, threads);
+std::string stamp(const std::string& path, const ContentDigest& content) {
   // One thread uses each connection: no mutex round each sqlite3_column_* call (two a value).
   sqlite::Database db(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_NOMUTEX);
   // No journal and no fsync of its own: the file is the build's private temporary one, removed
@@ -324,6 +568,21 @@ std::string stamp_map_id(const std::string& path, unsigned threads) {
   }
   db.exec("COMMIT");
   return content.map_id;
+}
+
+}  // namespace
+
+ContentDigest compute_content_digest(const std::string& path, unsigned threads) {
+  return content_of(path, threads, nullptr);
+}
+
+std::string stamp_map_id(const std::string& path, unsigned threads) {
+  return stamp(path, content_of(path, threads, nullptr));
+}
+
+std::string stamp_map_id(const std::string& path, unsigned threads,
+                         const WrittenTableDigest& written) {
+  return stamp(path, content_of(path, threads, &written));
 }
 
 }  // namespace roadcross::mapcheck

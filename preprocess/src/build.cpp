@@ -334,12 +334,13 @@ void write_stage(const BuildOptions& options, Pipeline& p, const InputHashes& ha
     // The tables are complete: the disk writes them while the identity is computed (it only
     // reads them), so that the fsync before the rename has little left to wait for.
     output.start_writeback();
-    // Last: the identity covers every table written above. Each thread re-reads every row for
-    // its share of the columns: beyond a few shares that repeated walk is what grows.
+    // Last: the identity covers every table written above. The segments' digests come from
+    // the rows the writer inserted; the other (small) tables are read back, each thread a share
+    // of their columns.
     progress.start_stage("map identity");
     try {
-      const std::string map_id =
-          mapcheck::stamp_map_id(output.temp_path(), std::min(core_count(), 4u));
+      const std::string map_id = mapcheck::stamp_map_id(
+          output.temp_path(), std::min(core_count(), 4u), writer.segment_digest());
       progress.finish_stage("map_id " + map_id);
     } catch (const std::exception& e) {
       throw OutputError(std::string("cannot write the map_id: ") + e.what());

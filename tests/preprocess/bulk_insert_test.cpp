@@ -1,6 +1,7 @@
 // insert_rows(): rows pulled through a virtual table arrive exactly as bound inserts would
 // write them (types, NULLs, texts, blobs, order), twice on one connection, with progress, and a
-// RowSource's exception, an interrupt or a constraint violation fails the insert.
+// RowSource's exception, an interrupt or a constraint violation fails the insert, and so does a row
+// the table drops (a conflict clause that ignores): a table's digests from its rows count on all.
 #include <gtest/gtest.h>
 
 #include <optional>
@@ -188,6 +189,15 @@ TEST(BulkInsert, AscendingRowidsBelowTheTablesLargestFail) {
   // SQLite's next rowid would be 101, 102: the check of the last row's rowid fails.
   EXPECT_THROW(rp::insert_rows(db.handle(), "t", "id, x, s, b", AscendingRows({5, 6, 7})),
                std::logic_error);
+}
+
+TEST(BulkInsert, ARowTheTableIgnoresFails) {
+  sqlite::Database db(":memory:", SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
+  // Row 1's s is NULL: the table drops that row instead of failing the statement.
+  db.exec("CREATE TABLE t (id INTEGER PRIMARY KEY, x REAL, s TEXT NOT NULL ON CONFLICT IGNORE, b)");
+  EXPECT_THROW(rp::insert_rows(db.handle(), "t", "id, x, s, b", NumberedRows(3)), std::logic_error);
+  db.exec("DELETE FROM t");
+  EXPECT_NO_THROW(rp::insert_rows(db.handle(), "t", "id, x, s, b", NumberedRows(1)));  // row 0
 }
 
 }  // namespace

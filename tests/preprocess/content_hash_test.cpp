@@ -1,12 +1,20 @@
 // compute_content_digest(): the documented encoding (docs/embedding.md, "The map's identity"),
 // checked against byte streams written out here by hand, and the same digests on any number of
 // threads (each thread a share of every table's columns) as on one connection.
+// ColumnsDigester: the digests of values as they are written equal those read back from a SQLite
+// table holding them, through every column affinity; the values SQLite would convert in ways it
+// does not mirror are refused; stamp_map_id with a table's written digests checks them against
+// the file.
 #include <gtest/gtest.h>
 
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <limits>
+#include <stdexcept>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "roadcross/mapcheck/content_hash.hpp"
@@ -148,6 +156,240 @@ TEST(ContentHash, StampWritesTheMapIdOfTheContent) {
   // The stored map_id and content.* rows are not part of what they digest: stamping again
   // gives the same id.
   EXPECT_EQ(mc::stamp_map_id(path, 3), map_id);
+  std::filesystem::remove(path);
+}
+
+// A value as a writer hands it to SQLite and to the digester.
+struct Blob {
+  std::string bytes;
+};
+using Value = std::variant<std::nullptr_t, std::int64_t, double, std::string, Blob>;
+
+void bind_value(sqlite::Statement& insert, int index, const Value& value) {
+  sqlite3_stmt* statement = insert.handle();
+  if (const auto* i = std::get_if<std::int64_t>(&value)) {
+    sqlite3_bind_int64(statement, index, *i);
+  } else if (const auto* r = std::get_if<double>(&value)) {
+    sqlite3_bind_double(statement, index, *r);
+  } else if (const auto* t = std::get_if<std::string>(&value)) {
+    sqlite3_bind_text(statement, index, t->data(), static_cast<int>(t->size()), SQLITE_TRANSIENT);
+  } else if (const auto* b = std::get_if<Blob>(&value)) {
+    sqlite3_bind_blob(statement, index, b->bytes.data(), static_cast<int>(b->bytes.size()),
+                      SQLITE_TRANSIENT);
+  } else {
+    sqlite3_bind_null(statement, index);
+  }
+}
+
+/// The value as the digester takes it (viewing the text or blob in `value`).
+mc::RowValue row_value(const Value& value) {
+  if (const auto* i = std::get_if<std::int64_t>(&value)) return mc::RowValue::of_integer(*i);
+  if (const auto* r = std::get_if<double>(&value)) return mc::RowValue::of_real(*r);
+  if (const auto* t = std::get_if<std::string>(&value)) return mc::RowValue::of_text(*t);
+  if (const auto* b = std::get_if<Blob>(&value)) return mc::RowValue::of_blob(b->bytes);
+  return {};
+}
+
+void add_row(mc::ColumnsDigester& digester, const std::vector<Value>& values) {
+  std::vector<mc::RowValue> row;
+  for (const Value& value : values) row.push_back(row_value(value));
+  digester.add_row(row);
+}
+
+constexpr std::int64_t kMin = std::numeric_limits<std::int64_t>::min();
+constexpr std::int64_t kMax = std::numeric_limits<std::int64_t>::max();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kTwoTo63 = 9223372036854775808.0;
+
+/// Every number a writer could hand a numeric column: NULL, integers (negative, the int64
+/// extremes), reals (both zeros, NaN, the infinities, integral ones on both sides of the int64
+/// range's ends, fractions, the largest integral double below 2^63), and a blob.
+std::vector<Value> numbers() {
+  return {nullptr,
+          std::int64_t{0},
+          std::int64_t{-1},
+          std::int64_t{7},
+          kMin,
+          kMax,
+          std::int64_t{9007199254740993},  // 2^53 + 1: no double equals it
+          0.0,
+          -0.0,
+          std::nan(""),
+          kInf,
+          -kInf,
+          2.0,
+          -3.0,
+          0.5,
+          -0.25,
+          1e300,
+          -1e-300,
+          kTwoTo63,
+          -kTwoTo63,
+          std::nextafter(kTwoTo63, 0.0),
+          -std::nextafter(kTwoTo63, 0.0),
+          4503599627370496.5 - 0.5,  // 2^52
+          Blob{"\x01\x02"},
+          Blob{""}};
+}
+
+/// Text and blobs, for the TEXT columns and those of no (BLOB) affinity: empty, an embedded NUL,
+/// UTF-8, numeric-looking text (kept as text there).
+std::vector<Value> texts() {
+  return {std::string(""),
+          std::string("abc"),
+          std::string("a\0b", 3),
+          std::string("Nov\xc3\xa9"),
+          std::string("12"),
+          std::string("0.5"),
+          nullptr,
+          Blob{""},
+          Blob{std::string("\0\xff", 2)}};
+}
+
+struct TestColumn {
+  std::string name, type;
+  std::vector<Value> values;  ///< cycled over the rows
+};
+
+/// A map file whose segments table has `columns` (after fid, the rowid) and `rows` rows of their
+/// values, written with bound parameters; the digester is fed the same values, in fid order.
+mc::WrittenTableDigest write_and_digest(const std::string& path,
+                                        const std::vector<TestColumn>& columns, std::size_t rows) {
+  std::filesystem::remove(path);
+  sqlite::Database db(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
+  db.exec("CREATE TABLE roadcross_metadata (key TEXT PRIMARY KEY, value TEXT)");
+  db.exec("INSERT INTO roadcross_metadata VALUES ('a', 'b')");
+  std::string create = "CREATE TABLE segments (fid INTEGER PRIMARY KEY NOT NULL";
+  std::string insert_sql = "INSERT INTO segments VALUES (?";
+  for (const TestColumn& column : columns) {
+    create += ", " + column.name + " " + column.type;
+    insert_sql += ", ?";
+  }
+  db.exec(create + ")");
+  mc::ColumnsDigester digester("segments", mc::declared_columns(db.handle(), "segments"));
+  auto insert = db.prepare(insert_sql + ")");
+  db.exec("BEGIN");
+  for (std::size_t row = 0; row < rows; ++row) {
+    const std::int64_t fid = 10 + 3 * static_cast<std::int64_t>(row);  // ascending, with gaps
+    std::vector<Value> values = {fid};
+    for (const TestColumn& column : columns) {
+      values.push_back(column.values[row % column.values.size()]);
+    }
+    for (std::size_t c = 0; c < values.size(); ++c)
+      bind_value(insert, static_cast<int>(c) + 1, values[c]);
+    insert.run();
+    add_row(digester, values);
+  }
+  db.exec("COMMIT");
+  return digester.finish();
+}
+
+/// The written digests of the segments table equal the ones read back from the file.
+void expect_digests_of_the_file(const std::string& path, const mc::WrittenTableDigest& written) {
+  sqlite::Database db(path, SQLITE_OPEN_READONLY);
+  const mc::ContentDigest read = mc::compute_content_digest(db.handle());
+  std::size_t compared = 0;
+  for (const mc::ColumnDigest& column : read.columns) {
+    if (column.table != "segments") continue;
+    ASSERT_LT(compared, written.digests.size());
+    EXPECT_EQ(written.digests[compared].column, column.column);
+    EXPECT_EQ(written.digests[compared].sha256_hex, column.sha256_hex)
+        << "segments." << column.column << " (" << written.columns[compared].declared_type << ")";
+    ++compared;
+  }
+  EXPECT_EQ(compared, written.digests.size());
+}
+
+TEST(ColumnsDigester, EveryAffinityGivesTheDigestsReadBackFromTheFile) {
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "columns_digester_affinity.gpkg").string();
+  // Each numeric column type once per affinity (INTEGER, REAL, NUMERIC as the schema spells it:
+  // BOOLEAN and the geometry type), the TEXT ones, and those of BLOB affinity (no type, BLOB).
+  const std::vector<TestColumn> columns = {
+      {"i", "INTEGER", numbers()},    {"i2", "INT NOT NULL DEFAULT 0", {std::int64_t{3}, 2.0}},
+      {"r", "REAL", numbers()},       {"d", "DOUBLE PRECISION", numbers()},
+      {"n", "NUMERIC", numbers()},    {"b", "BOOLEAN", numbers()},
+      {"g", "LINESTRING", numbers()}, {"t", "TEXT", texts()},
+      {"v", "VARCHAR(9)", texts()},   {"x", "BLOB", numbers()},
+      {"u", "", numbers()},           {"u2", "", texts()},
+  };
+  const mc::WrittenTableDigest written = write_and_digest(path, columns, 3 * numbers().size());
+  EXPECT_EQ(written.rows, 3 * numbers().size());
+  EXPECT_EQ(written.first_rowid, 10);
+  EXPECT_EQ(written.last_rowid, 10 + 3 * (static_cast<std::int64_t>(written.rows) - 1));
+  ASSERT_EQ(written.digests.size(), columns.size() + 1);
+  expect_digests_of_the_file(path, written);
+  std::filesystem::remove(path);
+}
+
+TEST(ColumnsDigester, AConversionItDoesNotMirrorIsRefused) {
+  const std::vector<mc::DeclaredColumn> columns = {
+      {"fid", "INTEGER", true}, {"n", "INTEGER", false}, {"r", "REAL", false},
+      {"b", "BOOLEAN", false},  {"t", "TEXT", false},
+  };
+  // Feeds the rows' values, each row ended: true when the digester took them all.
+  const auto takes = [&](const std::vector<std::vector<Value>>& rows) {
+    mc::ColumnsDigester digester("segments", columns);
+    try {
+      for (const std::vector<Value>& row : rows) add_row(digester, row);
+      return digester.finish().rows == rows.size();
+    } catch (const std::logic_error&) {
+      return false;
+    }
+  };
+  const Value null = nullptr;
+  const Value one = std::int64_t{1};
+  EXPECT_TRUE(takes({{one, std::int64_t{-5}, 0.5, one, std::string("7")}}));
+  EXPECT_TRUE(takes({{one, 2.0, -0.0, 1.0, null}, {std::int64_t{2}, null, null, null, null}}));
+  EXPECT_FALSE(takes({{null, null, null, null, null}})) << "a NULL rowid";
+  EXPECT_FALSE(takes({{std::nan(""), null, null, null, null}})) << "a NaN (NULL) rowid";
+  EXPECT_FALSE(takes({{Blob{"1"}, null, null, null, null}})) << "a blob rowid";
+  EXPECT_FALSE(takes({{one, std::string("7"), null, null, null}})) << "text, INTEGER column";
+  EXPECT_FALSE(takes({{one, null, std::string("0.5"), null, null}})) << "text, REAL column";
+  EXPECT_FALSE(takes({{one, null, null, std::string("1"), null}})) << "text, NUMERIC column";
+  EXPECT_FALSE(takes({{one, null, null, null, one}})) << "an integer, TEXT column";
+  EXPECT_FALSE(takes({{one, null, null, null, 1.5}})) << "a real, TEXT column";
+  EXPECT_FALSE(takes({{one, null, null, null}})) << "a value too few";
+  EXPECT_FALSE(takes({{one, null, null, null, null, null}})) << "a value too many";
+  EXPECT_FALSE(takes({{one, null, null, null, null}, {one, null, null, null, null}}))
+      << "a rowid not above the previous one";
+}
+
+TEST(ColumnsDigester, StampWithWrittenDigestsEqualsTheStampFromTheFile) {
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "columns_digester_stamp.gpkg").string();
+  const std::vector<TestColumn> columns = {
+      {"n", "INTEGER", numbers()}, {"r", "REAL", numbers()}, {"t", "TEXT", texts()}};
+  const mc::WrittenTableDigest written = write_and_digest(path, columns, 100);
+  const std::string from_file = mc::stamp_map_id(path, 2);
+  EXPECT_EQ(mc::stamp_map_id(path, 2, written), from_file);
+  EXPECT_EQ(mc::stamp_map_id(path, 1, written), from_file);
+
+  // Digests that do not fit the file: refused, and the stored map_id left as it was.
+  const auto refused = [&](const std::string& what, auto&& change) {
+    mc::WrittenTableDigest other = written;
+    change(other);
+    EXPECT_THROW(mc::stamp_map_id(path, 2, other), std::logic_error) << what;
+  };
+  refused("no rows digested", [](mc::WrittenTableDigest& w) { w.rows = 0; });
+  refused("another last fid", [](mc::WrittenTableDigest& w) { *w.last_rowid += 1; });
+  refused("another first fid", [](mc::WrittenTableDigest& w) { *w.first_rowid -= 1; });
+  refused("another declared type",
+          [](mc::WrittenTableDigest& w) { w.columns[1].declared_type = "REAL"; });
+  refused("a column fewer", [](mc::WrittenTableDigest& w) {
+    w.columns.pop_back();
+    w.digests.pop_back();
+  });
+  refused("another table", [](mc::WrittenTableDigest& w) { w.table = "crossings"; });
+  {
+    sqlite::Database db(path, SQLITE_OPEN_READWRITE);
+    db.exec("INSERT INTO segments (fid, n) VALUES (5, 1)");  // a row the digests lack
+  }
+  EXPECT_THROW(mc::stamp_map_id(path, 2, written), std::logic_error);
+  sqlite::Database db(path, SQLITE_OPEN_READONLY);
+  auto stored = db.prepare("SELECT value FROM roadcross_metadata WHERE key = 'map_id'");
+  ASSERT_TRUE(stored.step());
+  EXPECT_EQ(stored.column_text(0), from_file);
   std::filesystem::remove(path);
 }
 

@@ -148,6 +148,10 @@ sqlite3_module feed_module() {
 
 }  // namespace
 
+void RowSource::digest_row(std::size_t /*row*/, mapcheck::ColumnsDigester& /*digester*/) const {
+  throw std::logic_error("this RowSource computes no digests of its rows");
+}
+
 void insert_rows(sqlite3* db, std::string_view table, std::string_view column_list,
                  const RowSource& source,
                  const std::function<void(std::size_t rows_done)>& on_progress) {
@@ -170,6 +174,12 @@ void insert_rows(sqlite3* db, std::string_view table, std::string_view column_li
                                    ") SELECT * FROM " + name);
   insert.run();
   const std::size_t rows = source.row_count();
+  // Every row went in (what the table's digests computed from the source count on).
+  if (const sqlite3_int64 inserted = sqlite3_changes64(db);
+      inserted != static_cast<sqlite3_int64>(rows)) {
+    throw std::logic_error("insert_rows: " + std::to_string(inserted) + " rows of " +
+                           std::to_string(rows) + " went into " + std::string(table));
+  }
   if (rows == 0 || !source.ascending_rowid(0)) return;
   sqlite::Statement last(db, "SELECT max(rowid) FROM " + quoted_table);
   if (!last.step() || last.column_int64(0) != *source.ascending_rowid(rows - 1)) {

@@ -1,6 +1,7 @@
 #include "roadcross/preprocess/output/gpkg_writer.hpp"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -57,32 +58,86 @@ void AtomicOutput::commit() {
 
 namespace {
 
-void result(sqlite3_context* out, MaybeInt value) {
-  if (value) sqlite3_result_int64(out, *value);
+/// SegmentRows' values handed to SQLite as a virtual table column's result.
+struct SqliteValue {
+  sqlite3_context* out;
+  void null() {}  // no sqlite3_result_*: NULL
+  void integer(std::int64_t value) { sqlite3_result_int64(out, value); }
+  void real(double value) { sqlite3_result_double(out, value); }
+  /// A text that outlives the insert (interned in the graph, or a static name): not copied.
+  void lasting_text(std::string_view text) {
+    sqlite3_result_text(out, text.data(), static_cast<int>(text.size()), SQLITE_STATIC);
+  }
+  void text(std::string_view text) {
+    sqlite3_result_text(out, text.data(), static_cast<int>(text.size()), SQLITE_TRANSIENT);
+  }
+  void blob(const std::vector<std::uint8_t>& bytes) {
+    sqlite3_result_blob(out, bytes.data(), static_cast<int>(bytes.size()), SQLITE_TRANSIENT);
+  }
+};
+
+/// The same values gathered into a row for the table's digester (mapcheck::ColumnsDigester),
+/// which takes each through its column's affinity as SQLite stores it. A text or blob that does
+/// not outlive the call is kept here, one buffer a column (reused row after row), until the row
+/// is digested.
+template <std::size_t kColumns>
+class DigestedRow {
+ public:
+  void null() { add({}); }
+  void integer(std::int64_t value) { add(mapcheck::RowValue::of_integer(value)); }
+  void real(double value) { add(mapcheck::RowValue::of_real(value)); }
+  void lasting_text(std::string_view text) { add(mapcheck::RowValue::of_text(text)); }
+  void text(std::string_view text) {
+    std::string& kept = texts_.at(next_);
+    kept.assign(text);
+    add(mapcheck::RowValue::of_text(kept));
+  }
+  void blob(std::vector<std::uint8_t> bytes) {
+    std::vector<std::uint8_t>& kept = blobs_.at(next_);
+    kept = std::move(bytes);
+    add(mapcheck::RowValue::of_blob({reinterpret_cast<const char*>(kept.data()), kept.size()}));
+  }
+  /// Hands the row to `digester` and starts the next one.
+  void digest(mapcheck::ColumnsDigester& digester) {
+    const std::size_t count = next_;
+    next_ = 0;
+    digester.add_row({values_.data(), count});
+  }
+
+ private:
+  void add(const mapcheck::RowValue& value) { values_.at(next_++) = value; }
+  std::array<mapcheck::RowValue, kColumns> values_{};
+  std::array<std::string, kColumns> texts_;
+  std::array<std::vector<std::uint8_t>, kColumns> blobs_;
+  std::size_t next_ = 0;
+};
+
+template <typename Out>
+void result(Out& out, MaybeInt value) {
+  value ? out.integer(*value) : out.null();
 }
 
-void result(sqlite3_context* out, MaybeFloat value) {
+template <typename Out>
+void result(Out& out, MaybeFloat value) {
   // Written as the float's exact value, so that a value reads back the same from the DB.
-  if (value) sqlite3_result_double(out, static_cast<double>(*value));
+  value ? out.real(static_cast<double>(*value)) : out.null();
 }
 
-void result(sqlite3_context* out, bool value) {
-  sqlite3_result_int(out, value ? 1 : 0);
+template <typename Out>
+void result(Out& out, bool value) {
+  out.integer(value ? 1 : 0);
 }
 
 /// 1, 0, or NULL for unknown.
-void optional_flag(sqlite3_context* out, std::optional<bool> value) {
-  if (value) sqlite3_result_int(out, *value ? 1 : 0);
-}
-
-/// A text that outlives the insert (interned in the graph, or a static name): not copied.
-void result_lasting_text(sqlite3_context* out, std::string_view text) {
-  sqlite3_result_text(out, text.data(), static_cast<int>(text.size()), SQLITE_STATIC);
+template <typename Out>
+void optional_flag(Out& out, std::optional<bool> value) {
+  value ? out.integer(*value ? 1 : 0) : out.null();
 }
 
 /// A text that may be absent (nullptr: NULL).
-void result_lasting_text(sqlite3_context* out, const std::string* text) {
-  if (text) result_lasting_text(out, *text);
+template <typename Out>
+void lasting_text(Out& out, const std::string* text) {
+  text ? out.lasting_text(*text) : out.null();
 }
 
 /// The segments table's rows: fid, geom, then schema::segment_columns() in order.
@@ -108,28 +163,43 @@ class SegmentRows final : public RowSource {
   }
 
   void column(std::size_t row, int column, sqlite3_context* out) const override {
+    SqliteValue value{out};
+    put(row, column, value);
+  }
+
+  /// Row `row` as column() gives it to SQLite, the fid included. One thread per SegmentRows.
+  void digest_row(std::size_t row, mapcheck::ColumnsDigester& digester) const override {
+    digested_.integer(RoadGraph::id_at(first_ + row));
+    for (int column = 1; column < kColumns; ++column) put(row, column, digested_);
+    digested_.digest(digester);
+  }
+
+ private:
+  /// Value `column` (1 .. kColumns - 1) of row `row`, put into `out` (SqliteValue or
+  /// DigestedRow): the one place that says what the file holds.
+  template <typename Out>
+  void put(std::size_t row, int column, Out& out) const {
     const std::size_t index = first_ + row;
     const Segment& s = graph_.segments[index];
     if (column == 1) {
-      const std::vector<std::uint8_t> blob = schema::encode_linestring(graph_.line(s), srs_id_);
-      return sqlite3_result_blob(out, blob.data(), static_cast<int>(blob.size()), SQLITE_TRANSIENT);
+      return out.blob(schema::encode_linestring(graph_.line(s), srs_id_));
     }
     using C = schema::SegmentColumn;
     switch (static_cast<C>(column - 2)) {
       case C::osm_way_id:
-        return sqlite3_result_int64(out, graph_.osm_way_id(s));
+        return out.integer(graph_.osm_way_id(s));
       case C::highway:
-        return result_lasting_text(out, graph_.highway(s));
+        return out.lasting_text(graph_.highway(s));
       case C::name: {
         const InternedText name = graph_.name(s);
-        return name.empty() ? void() : result_lasting_text(out, name);
+        return name.empty() ? out.null() : out.lasting_text(name);
       }
       case C::length_m:
-        return sqlite3_result_double(out, graph_.length_m(s));
+        return out.real(graph_.length_m(s));
       case C::from_node_id:
-        return sqlite3_result_int64(out, graph_.from_node_id(s));
+        return out.integer(graph_.from_node_id(s));
       case C::to_node_id:
-        return sqlite3_result_int64(out, graph_.to_node_id(s));
+        return out.integer(graph_.to_node_id(s));
       case C::oneway:
         return result(out, s.oneway);
       case C::tunnel:
@@ -157,7 +227,7 @@ class SegmentRows final : public RowSource {
       case C::tpi_large_m:
         return result(out, s.tpi_large_m);
       case C::landform:
-        return s.landform.text() ? result_lasting_text(out, s.landform.text()) : void();
+        return s.landform.text() ? out.lasting_text(s.landform.text()) : out.null();
       case C::elevation_cost:
         return result(out, s.elevation_cost);
       case C::maxspeed_kmh:
@@ -171,9 +241,9 @@ class SegmentRows final : public RowSource {
       case C::crossing_distance_m:
         return result(out, s.crossing_distance_m);
       case C::context_defaulted:
-        return result_lasting_text(out, graph_.context_defaulted(s));
+        return lasting_text(out, graph_.context_defaulted(s));
       case C::override_note:
-        return result_lasting_text(out, graph_.override_note(s));
+        return lasting_text(out, graph_.override_note(s));
       case C::override_no_crossing:
         return result(out, s.override_no_crossing);
       case C::override_force_suitable:
@@ -183,9 +253,7 @@ class SegmentRows final : public RowSource {
       case C::score:
         return result(out, s.score());
       case C::reasons: {
-        const std::string reasons = s.reasons.joined(',');
-        return sqlite3_result_text(out, reasons.data(), static_cast<int>(reasons.size()),
-                                   SQLITE_TRANSIENT);
+        return out.text(s.reasons.joined(','));
       }
       case C::sight_forward_m:
         return result(out, s.sight_forward_m);
@@ -197,16 +265,15 @@ class SegmentRows final : public RowSource {
         return result(out, s.required_sight_m);
       case C::kerb: {
         const KerbFacts* kerb = kerb_at(index);
-        return kerb && !kerb->kerb.empty() ? result_lasting_text(out, kerb->kerb) : void();
+        return kerb && !kerb->kerb.empty() ? out.lasting_text(kerb->kerb) : out.null();
       }
       case C::kerb_height_m: {
         const KerbFacts* kerb = kerb_at(index);
-        return kerb && kerb->kerb_height_m ? sqlite3_result_double(out, *kerb->kerb_height_m)
-                                           : void();
+        return kerb && kerb->kerb_height_m ? out.real(*kerb->kerb_height_m) : out.null();
       }
       case C::crossing_island: {
         const KerbFacts* kerb = kerb_at(index);
-        return kerb ? optional_flag(out, kerb->island) : void();
+        return kerb ? optional_flag(out, kerb->island) : out.null();
       }
       case C::sidewalk_left:
         return optional_flag(out, graph_.pieces[s.piece_index].sidewalks.left);
@@ -218,7 +285,6 @@ class SegmentRows final : public RowSource {
     throw std::logic_error("segments writer: no column " + std::to_string(column));
   }
 
- private:
   /// The runtime's verdict on the segment's centreline under the map's defaults: the one judge
   /// (schema::judge_segment) and the kerb the map's robot profile cannot climb, as
   /// Map::assess_segment gives it (on the centreline the robot's side, and so the far-side
@@ -247,7 +313,23 @@ class SegmentRows final : public RowSource {
   SuitabilityRule rule_;
   std::size_t first_, count_;
   std::int32_t srs_id_;
+  /// digest_row's row, its buffers reused.
+  mutable DigestedRow<kColumns> digested_;
 };
+
+/// The segments table's digests computed from its rows as SegmentRows gives them to SQLite, in
+/// fid order. `stop`: checked every 4096 rows, to end early (the result is then not used).
+mapcheck::WrittenTableDigest digest_segment_rows(const RoadGraph& graph,
+                                                 const SuitabilityRule& rule,
+                                                 mapcheck::ColumnsDigester digester,
+                                                 const std::atomic<bool>& stop) {
+  const SegmentRows rows(graph, rule, 0, graph.segments.size());
+  for (std::size_t row = 0; row < rows.row_count(); ++row) {
+    if (row % 4096 == 0 && stop) throw std::runtime_error("segment digests stopped");
+    rows.digest_row(row, digester);
+  }
+  return digester.finish();
+}
 
 std::string segment_column_list() {
   std::string names = "fid, geom";
@@ -327,6 +409,10 @@ void write_segment_rows(sqlite::Database& db, const std::string& db_path, const 
   attach.run();
   db.exec("BEGIN");
   db.exec("INSERT INTO main." + table + " SELECT * FROM side_rows." + table);
+  // All of them: the segments' digests are of every row (mapcheck::stamp_map_id does not count).
+  if (sqlite3_changes64(db.handle()) != static_cast<sqlite3_int64>(total - split)) {
+    throw std::logic_error("segments writer: not every row of the side database was copied");
+  }
   db.exec("COMMIT");
   db.exec("DETACH DATABASE side_rows");
   std::remove(side_path.c_str());
@@ -449,7 +535,16 @@ GeoPackageWriter::GeoPackageWriter(const std::string& path, const geo::UtmZone& 
   }
 }
 
-GeoPackageWriter::~GeoPackageWriter() = default;
+GeoPackageWriter::~GeoPackageWriter() {
+  stop_digest_ = true;
+}
+
+mapcheck::WrittenTableDigest GeoPackageWriter::segment_digest() {
+  if (!segment_digest_.valid()) {
+    throw std::logic_error("GeoPackageWriter::segment_digest without finish, or twice");
+  }
+  return segment_digest_.get();
+}
 
 void GeoPackageWriter::write_segment_index(const RoadGraph& graph) {
   try {
@@ -477,17 +572,26 @@ void GeoPackageWriter::write_segment_rows_as_final(
   const std::string columns = segment_column_list();
   batch_rows = std::max<std::size_t>(batch_rows, 1);
   try {
+    // The columns' declared types are the file's.
+    mapcheck::ColumnsDigester digester(
+        std::string(schema::kSegmentsTable),
+        mapcheck::declared_columns(db_->handle(), schema::kSegmentsTable));
     for (std::size_t begin = 0; begin < total;) {
       const std::size_t end =
           std::min(final_segments.wait_for(begin + batch_rows), begin + batch_rows);
       before_batch(begin, end);
-      insert_rows(db_->handle(), schema::kSegmentsTable, columns,
-                  SegmentRows(graph, rule, begin, end));
+      const SegmentRows rows(graph, rule, begin, end);
+      insert_rows(db_->handle(), schema::kSegmentsTable, columns, rows);
       // Written out beside the producer, not at the commit after it; and the cache stays one
       // batch's pages, beside the producer's peak memory.
       write_out_pages(*db_);
+      // The table's digests from the same rows, on this thread while the producer runs.
+      for (std::size_t row = 0; row < rows.row_count(); ++row) rows.digest_row(row, digester);
       streamed_rows_ = begin = end;
     }
+    std::promise<mapcheck::WrittenTableDigest> digest;
+    digest.set_value(digester.finish());
+    segment_digest_ = digest.get_future();
   } catch (const sqlite::sqlite_error& e) {
     throw OutputError(std::string("cannot write the database: ") + e.what());
   }
@@ -552,7 +656,18 @@ void GeoPackageWriter::write_rows_and_metadata(const DatabaseContents& contents,
   const RoadGraph& graph = *contents.graph;
   sqlite::Database& db = *db_;
   if (!streamed_rows) {
-    write_segment_rows(db, path_, graph, suitability_rule(contents.metadata), progress);
+    const SuitabilityRule rule = suitability_rule(contents.metadata);
+    // The digests of the rows about to be written, from the same SegmentRows values, beside the
+    // inserting threads and on through the writing after them (crossings, metadata, terrain),
+    // until the map's identity needs them. The columns' declared types are the file's.
+    mapcheck::ColumnsDigester digester(
+        std::string(schema::kSegmentsTable),
+        mapcheck::declared_columns(db.handle(), schema::kSegmentsTable));
+    segment_digest_ = std::async(
+        std::launch::async, [this, &graph, rule, digester = std::move(digester)]() mutable {
+          return digest_segment_rows(graph, rule, std::move(digester), stop_digest_);
+        });
+    write_segment_rows(db, path_, graph, rule, progress);
   }
   auto update = db.prepare(
       "UPDATE gpkg_contents SET min_x = ?, min_y = ?, max_x = ?, max_y = ? WHERE table_name = "

@@ -14,6 +14,10 @@
 struct sqlite3;
 struct sqlite3_context;
 
+namespace roadcross::mapcheck {
+class ColumnsDigester;
+}
+
 namespace roadcross::preprocess {
 
 /// Rows produced on demand for insert_rows().
@@ -36,12 +40,18 @@ class RowSource {
   virtual std::optional<std::int64_t> ascending_rowid(std::size_t /*row*/) const {
     return std::nullopt;
   }
+  /// Hands row `row`'s values, as column() gives them to SQLite, to `digester` as one row
+  /// (ColumnsDigester::add_row; the rowid as the table gets it, not NULL): the per-row hook with
+  /// which whoever feeds the rows computes the table's digests from them (rows in the table's
+  /// hashed order, one thread). The default throws std::logic_error: a source without digests.
+  virtual void digest_row(std::size_t row, mapcheck::ColumnsDigester& digester) const;
 };
 
 /// Runs `INSERT INTO <table> (<column_list>) SELECT * FROM <virtual table over source>` on `db`
 /// (in the caller's transaction); `column_list` names source.column_count() columns, comma
 /// separated. `on_progress(rows_done)` is called every 4096 rows. Throws sqlite::sqlite_error
-/// with SQLite's message (or a RowSource exception's) on failure, and std::logic_error when an
+/// with SQLite's message (or a RowSource exception's) on failure, and std::logic_error when not
+/// every row was inserted (a table whose constraints ignore conflicts, say) or an
 /// ascending_rowid() source's last row did not get its rowid (the table had larger ones).
 void insert_rows(sqlite3* db, std::string_view table, std::string_view column_list,
                  const RowSource& source,

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "roadcross/files/atomic_file.hpp"
+#include "roadcross/mapcheck/content_hash.hpp"
 #include "roadcross/preprocess/common/done_prefix.hpp"
 #include "roadcross/preprocess/context/crossings.hpp"
 #include "roadcross/preprocess/graph/segments.hpp"
@@ -68,6 +69,7 @@ class AtomicOutput {
 ///     ...  // cost stages: they must not change the segments' number, ids or lines
 ///     index.get();
 ///     writer.finish(contents, progress);  // segment rows, crossings, metadata; closes the file
+///     mapcheck::stamp_map_id(path, threads, writer.segment_digest());
 ///
 /// or, with the segment rows written on a thread of their own while the sight stage computes
 /// the last fields (the rows become final in a growing prefix, DonePrefix):
@@ -105,9 +107,15 @@ class GeoPackageWriter {
       std::size_t batch_rows);
   /// Everything else, after write_segment_index() of the same graph has returned; commits.
   /// `streamed_rows`: the future of a write_segment_rows_as_final() call, waited for (its
-  /// progress shown, its exception rethrown) in place of writing the segment rows.
+  /// progress shown, its exception rethrown) in place of writing the segment rows. Without it,
+  /// finish() writes them and also starts computing the segments table's digests from the rows
+  /// it writes, on a thread of its own, which reads the graph until segment_digest() returns
+  /// (or the writer is destroyed); write_segment_rows_as_final() digests its rows itself.
   void finish(const DatabaseContents& contents, Progress& progress,
               std::future<void>* streamed_rows = nullptr);
+  /// The segments table's column digests computed from the rows written (not read back from
+  /// the file): waits for them. Once, after finish(). Throws what the digester threw.
+  mapcheck::WrittenTableDigest segment_digest();
 
  private:
   void write_rows_and_metadata(const DatabaseContents& contents, Progress& progress,
@@ -120,6 +128,10 @@ class GeoPackageWriter {
   std::optional<std::size_t> indexed_segments_;
   /// Segment rows write_segment_rows_as_final() has inserted (read by finish()'s progress).
   std::atomic<std::size_t> streamed_rows_{0};
+  /// Set by the destructor: the digest thread stops early. Declared before the future, whose
+  /// destruction waits for the thread.
+  std::atomic<bool> stop_digest_{false};
+  std::future<mapcheck::WrittenTableDigest> segment_digest_;
 };
 
 }  // namespace roadcross::preprocess
