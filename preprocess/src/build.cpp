@@ -364,6 +364,9 @@ void sight_and_segment_rows(const BuildOptions& options, Pipeline& p, GeoPackage
   final_segments.after_done_for_tests = options.test_hooks.after_sight_chunk;
   const auto before_batch = [&](std::size_t begin, std::size_t end) {
     if (options.test_hooks.before_row_batch) options.test_hooks.before_row_batch(begin, end);
+    // The rows written so far go to the disk while the sight stage runs, not at the fsync
+    // before the rename (at 200x the file is 1.4 GB: a second and more of waiting at the end).
+    if (begin > 0) output.start_writeback();
     for (std::size_t i = begin; i < end; ++i) {
       Segment& s = p.graph.segments[i];
       compute_rank(p.graph, s, options.parameters.rank);

@@ -348,6 +348,11 @@ RoadGraph build_road_graph(const RoadNetwork& network, geo::UtmZone zone,
   // Both filled once, front to back, just below: one fault a 2 MiB page, not a 4 KiB one.
   advise_huge_pages(graph.segments);
   advise_huge_pages(graph.segment_points);
+  // Their pages are zeroed by the kernel on the other core (idle here) as this one fills them.
+  const PrefaultBeside segments_ahead(graph.segments.data(),
+                                      graph.segments.capacity() * sizeof(Segment));
+  const PrefaultBeside points_ahead(graph.segment_points.data(),
+                                    graph.segment_points.capacity() * sizeof(PlanePoint));
   for (std::size_t p = 0; p < graph.pieces.size(); ++p) {
     const RoadPiece& piece = graph.pieces[p];
     ++graph.degree[piece.from_node_id];

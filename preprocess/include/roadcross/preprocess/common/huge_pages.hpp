@@ -5,7 +5,9 @@
 // "Build system calls and page faults (issue 27)".
 #pragma once
 
+#include <atomic>
 #include <cstddef>
+#include <thread>
 #include <vector>
 
 namespace roadcross::preprocess {
@@ -39,5 +41,23 @@ void resize_on_huge_pages(std::vector<T, Allocator>& items, std::size_t n) {
   reserve_on_huge_pages(items, n);
   items.resize(n);
 }
+
+/// Faults in the whole 4 KiB pages of [data, data + bytes) on a thread of its own, front to
+/// back, while the caller's thread fills them (madvise MADV_POPULATE_WRITE): the kernel's
+/// zeroing of fresh pages, most of what a first write of a large array costs, runs on the other
+/// core. The contents are not touched (a page already present is left as it is), so the filling
+/// thread needs no care. Only where a second core would otherwise idle. The destructor stops it
+/// at its next 8 MiB and waits; nothing happens where the kernel lacks the advice.
+class PrefaultBeside {
+ public:
+  PrefaultBeside(const void* data, std::size_t bytes);
+  ~PrefaultBeside();
+  PrefaultBeside(const PrefaultBeside&) = delete;
+  PrefaultBeside& operator=(const PrefaultBeside&) = delete;
+
+ private:
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
 
 }  // namespace roadcross::preprocess
