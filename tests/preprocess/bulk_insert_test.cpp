@@ -3,7 +3,7 @@
 // RowSource's exception, an interrupt or a constraint violation fails the insert, and so does a row
 // the table drops (a conflict clause that ignores): a table's digests from its rows count on all.
 // FedRowDigests: the digests of the values handed to SQLite equal those read back from the table,
-// and a column asked for out of order fails the insert.
+// and a row lacking a value fails the insert.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -222,8 +222,10 @@ class MixedRows final : public rp::RowSource {
   int column_count() const override { return kColumns; }
   std::optional<std::int64_t> ascending_rowid(std::size_t row) const override { return fids_[row]; }
   void column(std::size_t row, int column, sqlite3_context* out) const override {
-    fed_->column(column, fids_[row], out,
-                 [&](auto& sink) { put(first_value_ + row, column, sink); });
+    fed_->column(first_value_ + row, column, out, [&](rp::DigestedRow<kColumns>& whole) {
+      whole.integer(fids_[row]);
+      for (int c = 1; c < kColumns; ++c) put(first_value_ + row, c, whole);
+    });
   }
 
  private:
@@ -297,7 +299,7 @@ TEST(BulkInsert, DigestsFromTheFeedEqualThoseOfTheWrittenTable) {
   db.exec("CREATE TABLE roadcross_metadata (key TEXT PRIMARY KEY, value TEXT)");
   db.exec(kMixedTable);
   mc::ColumnsDigester digester("segments", mc::declared_columns(db.handle(), "segments"));
-  rp::FedRowDigests<MixedRows::kColumns> fed(digester, true);
+  rp::FedRowDigests<MixedRows::kColumns> fed(digester);
   // Two batches through one digester, as the segments writer does; fids mostly consecutive
   // (handed to SQLite as NULL), some after a gap.
   std::vector<std::int64_t> first, second;
@@ -306,10 +308,8 @@ TEST(BulkInsert, DigestsFromTheFeedEqualThoseOfTheWrittenTable) {
   for (int r = 0; r < 44; ++r) second.push_back(fid += (r % 11 == 0 ? 3 : 1));
   db.exec("BEGIN");
   rp::insert_rows(db.handle(), "segments", kMixedColumns, MixedRows(first, 0, &fed));
-  EXPECT_TRUE(fed.between_rows());
   rp::insert_rows(db.handle(), "segments", kMixedColumns, MixedRows(second, first.size(), &fed));
   db.exec("COMMIT");
-  EXPECT_TRUE(fed.between_rows());
   const mc::WrittenTableDigest written = digester.finish();
   EXPECT_EQ(written.rows, first.size() + second.size());
   EXPECT_EQ(written.first_rowid, first.front());
@@ -329,32 +329,32 @@ TEST(BulkInsert, DigestsFromTheFeedEqualThoseOfTheWrittenTable) {
   }
 }
 
-/// A source whose column() skips a column: the feed's digests refuse it and the insert fails.
-class SkippingRows final : public rp::RowSource {
+/// A source whose rows lack a value: the feed's digests refuse them and the insert fails.
+class ShortRows final : public rp::RowSource {
  public:
-  explicit SkippingRows(rp::FedRowDigests<3>* fed) : fed_(fed) {}
+  explicit ShortRows(rp::FedRowDigests<3>* fed) : fed_(fed) {}
   std::size_t row_count() const override { return 2; }
   int column_count() const override { return 3; }
   std::optional<std::int64_t> ascending_rowid(std::size_t row) const override {
     return static_cast<std::int64_t>(row) + 1;
   }
   void column(std::size_t row, int column, sqlite3_context* out) const override {
-    // Row 1's column 1 is given without its digests: column 2 then comes out of order.
-    if (row == 1 && column == 1) return sqlite3_result_int64(out, 5);
-    fed_->column(column, static_cast<std::int64_t>(row) + 1, out,
-                 [&](auto& sink) { sink.integer(column); });
+    fed_->column(row, column, out, [&](rp::DigestedRow<3>& whole) {
+      whole.integer(static_cast<std::int64_t>(row) + 1);
+      whole.integer(7);  // column 2 missing
+    });
   }
 
  private:
   rp::FedRowDigests<3>* fed_;
 };
 
-TEST(BulkInsert, FeedDigestsOfColumnsOutOfOrderFailTheInsert) {
+TEST(BulkInsert, FeedDigestsOfARowLackingAValueFailTheInsert) {
   sqlite::Database db(":memory:", SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
   db.exec("CREATE TABLE segments (fid INTEGER PRIMARY KEY, a INTEGER, b INTEGER)");
   mc::ColumnsDigester digester("segments", mc::declared_columns(db.handle(), "segments"));
-  rp::FedRowDigests<3> fed(digester, true);
-  EXPECT_THROW(rp::insert_rows(db.handle(), "segments", "fid, a, b", SkippingRows(&fed)),
+  rp::FedRowDigests<3> fed(digester);
+  EXPECT_THROW(rp::insert_rows(db.handle(), "segments", "fid, a, b", ShortRows(&fed)),
                sqlite::sqlite_error);
 }
 

@@ -95,8 +95,8 @@ class SegmentRows final : public RowSource {
   static constexpr int kColumns = 2 + static_cast<int>(schema::kSegmentColumnCount);
 
   /// Rows [first, last) of the graph's segments; `rule`: what the stored verdict is judged under.
-  /// With `fed_digests`, column() also hands each value to it: the rows' digests from the values
-  /// SQLite is given, each computed once (the geometry's encoding, the reasons, the verdict).
+  /// With `fed_digests`, column() hands SQLite the rows it digests: each value computed once
+  /// for the file and its digests (the geometry's encoding, the reasons, the verdict).
   SegmentRows(const RoadGraph& graph, const SuitabilityRule& rule, std::size_t first,
               std::size_t last, FedRowDigests<kColumns>* fed_digests = nullptr)
       : graph_(graph),
@@ -114,8 +114,8 @@ class SegmentRows final : public RowSource {
 
   void column(std::size_t row, int column, sqlite3_context* out) const override {
     if (fed_digests_) {
-      fed_digests_->column(column, RoadGraph::id_at(first_ + row), out,
-                           [&](auto& sink) { put(row, column, sink); });
+      fed_digests_->column(first_ + row, column, out,
+                           [&](DigestedRow<kColumns>& whole) { fill(row, whole); });
       return;
     }
     SqliteValue value{out};
@@ -124,14 +124,19 @@ class SegmentRows final : public RowSource {
 
   /// Row `row` as column() gives it to SQLite, the fid included. One thread per SegmentRows.
   void digest_row(std::size_t row, mapcheck::ColumnsDigester& digester) const override {
-    digested_.integer(RoadGraph::id_at(first_ + row));
-    for (int column = 1; column < kColumns; ++column) put(row, column, digested_);
+    fill(row, digested_);
     digested_.digest(digester);
   }
 
  private:
-  /// Value `column` (1 .. kColumns - 1) of row `row`, put into `out` (SqliteValue, DigestedRow or
-  /// SqliteAndDigestedValue): the one place that says what the file holds.
+  /// Row `row` whole, the fid included, into `out`.
+  void fill(std::size_t row, DigestedRow<kColumns>& out) const {
+    out.integer(RoadGraph::id_at(first_ + row));
+    for (int column = 1; column < kColumns; ++column) put(row, column, out);
+  }
+
+  /// Value `column` (1 .. kColumns - 1) of row `row`, put into `out` (SqliteValue or
+  /// DigestedRow): the one place that says what the file holds.
   template <typename Out>
   void put(std::size_t row, int column, Out& out) const {
     const std::size_t index = first_ + row;
@@ -532,7 +537,7 @@ void GeoPackageWriter::write_segment_rows_as_final(
     mapcheck::ColumnsDigester digester(
         std::string(schema::kSegmentsTable),
         mapcheck::declared_columns(db_->handle(), schema::kSegmentsTable));
-    FedRowDigests<SegmentRows::kColumns> fed_digests(digester, true);
+    FedRowDigests<SegmentRows::kColumns> fed_digests(digester);
     for (std::size_t begin = 0; begin < total;) {
       const std::size_t end =
           std::min(final_segments.wait_for(begin + batch_rows), begin + batch_rows);
@@ -542,7 +547,7 @@ void GeoPackageWriter::write_segment_rows_as_final(
       const SegmentRows rows(graph, rule, begin, end, &fed_digests);
       insert_rows(db_->handle(), schema::kSegmentsTable, columns, rows);
       // Every row inserted (insert_rows checks) was digested whole.
-      if (!fed_digests.between_rows() || digester.rows() != end) {
+      if (digester.rows() != end) {
         throw std::logic_error("segments writer: " + std::to_string(digester.rows()) +
                                " rows digested of " + std::to_string(end));
       }

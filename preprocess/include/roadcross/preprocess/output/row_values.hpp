@@ -1,8 +1,8 @@
-// Where a RowSource puts its values: SQLite (a virtual table column's result), a row for a
-// table's digester (mapcheck::ColumnsDigester), or both at once. A source writes each value once
-// through a template over these sinks, so the file and its digests get the same values, and
-// with FedRowDigests the values SQLite pulls through insert_rows() are digested as they are
-// handed over, not computed a second time for the digester.
+// Where a RowSource puts its values: SQLite (a virtual table column's result) or a row for a
+// table's digester (mapcheck::ColumnsDigester). A source writes each value through one template
+// over these sinks, so the file and its digests get the same values; with FedRowDigests the rows
+// SQLite pulls through insert_rows() are computed once, digested and handed to SQLite from the
+// digested row, not computed a second time for the digester.
 #pragma once
 
 #include <sqlite3.h>
@@ -65,7 +65,9 @@ class DigestedRow {
   }
   /// Values added to the current row so far.
   std::size_t size() const { return next_; }
-  /// Hands the row to `digester` and starts the next one.
+  /// Value `column` of the row last digested (its texts and blobs kept until the next row).
+  const mapcheck::RowValue& value(std::size_t column) const { return values_.at(column); }
+  /// Hands the row to `digester` and starts the next one (its values stay, for value()).
   void digest(mapcheck::ColumnsDigester& digester) {
     const std::size_t count = next_;
     next_ = 0;
@@ -80,79 +82,65 @@ class DigestedRow {
   std::size_t next_ = 0;
 };
 
-/// Each value to SQLite and to the row being digested: computed once for both.
-template <std::size_t kColumns>
-struct SqliteAndDigestedValue {
-  SqliteValue sqlite;
-  DigestedRow<kColumns>& digested;
-  void null() { digested.null(); }
-  void integer(std::int64_t value) {
-    sqlite.integer(value);
-    digested.integer(value);
-  }
-  void real(double value) {
-    sqlite.real(value);
-    digested.real(value);
-  }
-  void lasting_text(std::string_view text) {
-    sqlite.lasting_text(text);
-    digested.lasting_text(text);
-  }
-  void text(std::string_view text) {
-    sqlite.text(text);
-    digested.text(text);
-  }
-  void blob(std::vector<std::uint8_t> bytes) {
-    sqlite.blob(bytes);
-    digested.blob(std::move(bytes));
-  }
-};
-
-/// The digests of the rows a RowSource hands to SQLite through insert_rows(), taken from the
-/// values as they are handed over. The source's column() calls column() here with its own
-/// value-writing function. SQLite asks an INSERT ... SELECT's virtual table for each row's
-/// columns once, in order (the statement copies them into the record's registers one after the
-/// other); a column asked for out of that order throws std::logic_error (the insert fails)
-/// rather than digest a row that is not the one written. With `rowid_column` the source's column
-/// 0 is its ascending_rowid(), which insert_rows hands to SQLite itself (as NULL, mostly): the
-/// digester gets the rowid as the table stores it, given with the row's first other column.
+/// The digests of the rows a RowSource hands to SQLite through insert_rows(), each value
+/// computed once for both. At the first column SQLite asks of a row, the row is filled whole
+/// into a DigestedRow (its rowid first, as the table stores it: insert_rows mostly hands an
+/// ascending rowid to SQLite as NULL) and handed to the digester; SQLite's columns are then
+/// served from that row's values, in whatever order and as often as it asks. Rows must be asked
+/// for in ascending order (as insert_rows does); each row asked for is digested once.
 template <std::size_t kColumns>
 class FedRowDigests {
  public:
-  FedRowDigests(mapcheck::ColumnsDigester& digester, bool rowid_column)
-      : digester_(digester), first_column_(rowid_column ? 1 : 0) {}
+  explicit FedRowDigests(mapcheck::ColumnsDigester& digester) : digester_(digester) {}
 
-  /// Value `column` of the row whose rowid is `rowid` (used when rowid_column): `put(sink)`
-  /// writes it into a SqliteAndDigestedValue over `out`. Hands the row to the digester after
-  /// its last column.
-  template <typename Put>
-  void column(int column, std::int64_t rowid, sqlite3_context* out, Put&& put) {
-    if (column != next_column_) {
-      throw std::logic_error("a fed row's digests: column " + std::to_string(column) +
-                             " asked for where column " + std::to_string(next_column_) +
-                             " was next");
-    }
-    if (column == first_column_ && first_column_ == 1) row_.integer(rowid);
-    SqliteAndDigestedValue<kColumns> sink{SqliteValue{out}, row_};
-    std::forward<Put>(put)(sink);
-    if (row_.size() != static_cast<std::size_t>(column) + 1) {
-      throw std::logic_error("a fed row's digests: column " + std::to_string(column) +
-                             " put no single value");
-    }
-    if (++next_column_ == static_cast<int>(kColumns)) {
+  /// Value `column` of row `row` (an index unique over all the rows fed to this digester, in
+  /// ascending order) to `out`; on a new row `fill(row)` first puts every column of the row,
+  /// column 0 included, into the DigestedRow it is given.
+  template <typename Fill>
+  void column(std::size_t row, int column, sqlite3_context* out, Fill&& fill) {
+    if (!filled_ || row != row_index_) {
+      if (filled_ && row < row_index_) {
+        throw std::logic_error("a fed row's digests: row " + std::to_string(row) +
+                               " asked for after row " + std::to_string(row_index_));
+      }
+      filled_ = false;
+      std::forward<Fill>(fill)(row_);
+      if (row_.size() != kColumns) {
+        throw std::logic_error("a fed row's digests: " + std::to_string(row_.size()) +
+                               " values of " + std::to_string(kColumns) + " columns");
+      }
       row_.digest(digester_);
-      next_column_ = first_column_;
+      row_index_ = row;
+      filled_ = true;
+    }
+    serve(row_.value(static_cast<std::size_t>(column)), out);
+  }
+
+ private:
+  /// The row's texts and blobs are kept (or outlive it) until the next row is filled, which
+  /// SQLite asks for only after it has stored this one: not copied.
+  static void serve(const mapcheck::RowValue& value, sqlite3_context* out) {
+    static constexpr char kNoBytes = 0;  // a null data pointer would be NULL, not empty
+    const char* bytes = value.bytes.empty() ? &kNoBytes : value.bytes.data();
+    const int size = static_cast<int>(value.bytes.size());
+    switch (value.type) {
+      case mapcheck::RowValue::Type::null:
+        return;
+      case mapcheck::RowValue::Type::integer:
+        return sqlite3_result_int64(out, value.integer);
+      case mapcheck::RowValue::Type::real:
+        return sqlite3_result_double(out, value.real);
+      case mapcheck::RowValue::Type::text:
+        return sqlite3_result_text(out, bytes, size, SQLITE_STATIC);
+      case mapcheck::RowValue::Type::blob:
+        return sqlite3_result_blob(out, bytes, size, SQLITE_STATIC);
     }
   }
 
-  /// True between rows (every column asked for has been digested with its row).
-  bool between_rows() const { return next_column_ == first_column_; }
-
- private:
   mapcheck::ColumnsDigester& digester_;
-  int first_column_;
-  int next_column_ = first_column_;
   DigestedRow<kColumns> row_;
+  std::size_t row_index_ = 0;
+  bool filled_ = false;
 };
 
 }  // namespace roadcross::preprocess
