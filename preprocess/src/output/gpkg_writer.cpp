@@ -118,8 +118,7 @@ class SegmentRows final : public RowSource {
                            [&](DigestedRow<kColumns>& whole) { fill(row, whole); });
       return;
     }
-    SqliteValue value{out};
-    put(row, column, value);
+    to_sqlite(row, column, out);
   }
 
   /// Row `row` as column() gives it to SQLite, the fid included. One thread per SegmentRows.
@@ -129,6 +128,12 @@ class SegmentRows final : public RowSource {
   }
 
  private:
+  /// Out of column()'s fed path, which SQLite calls for every value.
+  [[gnu::noinline]] void to_sqlite(std::size_t row, int column, sqlite3_context* out) const {
+    SqliteValue value{out};
+    put(row, column, value);
+  }
+
   /// Row `row` whole, the fid included, into `out`.
   void fill(std::size_t row, DigestedRow<kColumns>& out) const {
     out.integer(RoadGraph::id_at(first_ + row));

@@ -98,25 +98,31 @@ class FedRowDigests {
   /// column 0 included, into the DigestedRow it is given.
   template <typename Fill>
   void column(std::size_t row, int column, sqlite3_context* out, Fill&& fill) {
-    if (!filled_ || row != row_index_) {
-      if (filled_ && row < row_index_) {
-        throw std::logic_error("a fed row's digests: row " + std::to_string(row) +
-                               " asked for after row " + std::to_string(row_index_));
-      }
-      filled_ = false;
-      std::forward<Fill>(fill)(row_);
-      if (row_.size() != kColumns) {
-        throw std::logic_error("a fed row's digests: " + std::to_string(row_.size()) +
-                               " values of " + std::to_string(kColumns) + " columns");
-      }
-      row_.digest(digester_);
-      row_index_ = row;
-      filled_ = true;
+    if (!filled_ || row != row_index_) [[unlikely]] {
+      next_row(row, std::forward<Fill>(fill));
     }
     serve(row_.value(static_cast<std::size_t>(column)), out);
   }
 
  private:
+  /// Out of line: SQLite asks for every column, the row is new once in kColumns asks.
+  template <typename Fill>
+  [[gnu::noinline]] void next_row(std::size_t row, Fill&& fill) {
+    if (filled_ && row < row_index_) {
+      throw std::logic_error("a fed row's digests: row " + std::to_string(row) +
+                             " asked for after row " + std::to_string(row_index_));
+    }
+    filled_ = false;
+    std::forward<Fill>(fill)(row_);
+    if (row_.size() != kColumns) {
+      throw std::logic_error("a fed row's digests: " + std::to_string(row_.size()) + " values of " +
+                             std::to_string(kColumns) + " columns");
+    }
+    row_.digest(digester_);
+    row_index_ = row;
+    filled_ = true;
+  }
+
   /// The row's texts and blobs are kept (or outlive it) until the next row is filled, which
   /// SQLite asks for only after it has stored this one: not copied.
   static void serve(const mapcheck::RowValue& value, sqlite3_context* out) {
