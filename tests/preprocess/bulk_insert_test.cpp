@@ -2,15 +2,24 @@
 // write them (types, NULLs, texts, blobs, order), twice on one connection, with progress, and a
 // RowSource's exception, an interrupt or a constraint violation fails the insert, and so does a row
 // the table drops (a conflict clause that ignores): a table's digests from its rows count on all.
+// FedRowDigests: the digests of the values handed to SQLite equal those read back from the table,
+// and a row lacking a value fails the insert.
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <limits>
 #include <optional>
 #include <stdexcept>
+#include <string>
+#include <string_view>
 #include <vector>
 
+#include "roadcross/mapcheck/content_hash.hpp"
 #include "roadcross/preprocess/output/bulk_insert.hpp"
+#include "roadcross/preprocess/output/row_values.hpp"
 #include "roadcross/schema/sqlite.hpp"
 
+namespace mc = roadcross::mapcheck;
 namespace rp = roadcross::preprocess;
 namespace sqlite = roadcross::sqlite;
 
@@ -198,6 +207,155 @@ TEST(BulkInsert, ARowTheTableIgnoresFails) {
   EXPECT_THROW(rp::insert_rows(db.handle(), "t", "id, x, s, b", NumberedRows(3)), std::logic_error);
   db.exec("DELETE FROM t");
   EXPECT_NO_THROW(rp::insert_rows(db.handle(), "t", "id, x, s, b", NumberedRows(1)));  // row 0
+}
+
+/// Hand-made rows of every kind of value (NULLs, integers, reals with NaN, -0.0, infinities and
+/// integral ones, lasting and copied texts, blobs, one empty) into columns of every affinity,
+/// fids ascending with gaps; the values are handed to SQLite and its digests by FedRowDigests.
+class MixedRows final : public rp::RowSource {
+ public:
+  static constexpr int kColumns = 8;
+  MixedRows(std::vector<std::int64_t> fids, std::size_t first_value,
+            rp::FedRowDigests<kColumns>* fed)
+      : fids_(std::move(fids)), first_value_(first_value), fed_(fed) {}
+  std::size_t row_count() const override { return fids_.size(); }
+  int column_count() const override { return kColumns; }
+  std::optional<std::int64_t> ascending_rowid(std::size_t row) const override { return fids_[row]; }
+  void column(std::size_t row, int column, sqlite3_context* out) const override {
+    fed_->column(first_value_ + row, column, out, [&](rp::DigestedRow<kColumns>& whole) {
+      whole.integer(fids_[row]);
+      for (int c = 1; c < kColumns; ++c) put(first_value_ + row, c, whole);
+    });
+  }
+
+ private:
+  template <typename Out>
+  static void put(std::size_t v, int column, Out& out) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const double inf = std::numeric_limits<double>::infinity();
+    const auto i = static_cast<std::int64_t>(v);
+    switch (column) {
+      case 1:  // g LINESTRING (NUMERIC affinity)
+        if (v % 5 == 4) return out.null();
+        if (v % 5 == 3) return out.blob({});
+        return out.blob({static_cast<std::uint8_t>(v), 0, 0xff});
+      case 2:  // i INTEGER
+        switch (v % 4) {
+          case 0:
+            return out.integer(i * 7 - 3);
+          case 1:
+            return out.real(2.0);  // stored as the integer 2
+          case 2:
+            return out.null();
+          default:
+            return out.real(0.25);
+        }
+      case 3: {  // r REAL
+        const double reals[] = {0.5, nan, -0.0, 3.0, -inf, 1e300};
+        if (v % 7 == 6) return out.integer(i);
+        return out.real(reals[v % 7]);
+      }
+      case 4:  // b BOOLEAN
+        return v % 3 == 2 ? out.null() : out.integer(i % 2);
+      case 5: {  // t TEXT
+        if (v % 4 == 1) return out.null();
+        if (v % 4 == 2) return out.lasting_text("lasting");
+        if (v % 4 == 3) return out.text(std::string_view("a\0b", 3));
+        std::string text = "t";  // (not "t" + ...: GCC 12 warns falsely, -Wrestrict)
+        text += std::to_string(v);
+        return out.text(text);
+      }
+      case 6:  // x BLOB
+        if (v % 3 == 0) return out.blob({1, 2, static_cast<std::uint8_t>(v)});
+        return v % 3 == 1 ? out.real(nan) : out.null();
+      case 7:  // u (no type)
+        if (v % 3 == 0) return out.text("12");
+        return v % 3 == 1 ? out.integer(-i) : out.real(-0.0);
+    }
+    throw std::logic_error("no column " + std::to_string(column));
+  }
+
+  std::vector<std::int64_t> fids_;
+  std::size_t first_value_;
+  rp::FedRowDigests<kColumns>* fed_;
+};
+
+const char* const kMixedTable =
+    "CREATE TABLE segments (fid INTEGER PRIMARY KEY NOT NULL, g LINESTRING, i INTEGER, r REAL, "
+    "b BOOLEAN, t TEXT, x BLOB, u)";
+const char* const kMixedColumns = "fid, g, i, r, b, t, x, u";
+
+/// The segments columns' digests compute_content_digest reads back from `db`.
+std::vector<std::string> digests_read_back(sqlite::Database& db) {
+  std::vector<std::string> digests;
+  for (const mc::ColumnDigest& column : mc::compute_content_digest(db.handle()).columns) {
+    if (column.table == "segments") digests.push_back(column.sha256_hex);
+  }
+  return digests;
+}
+
+TEST(BulkInsert, DigestsFromTheFeedEqualThoseOfTheWrittenTable) {
+  sqlite::Database db(":memory:", SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
+  db.exec("CREATE TABLE roadcross_metadata (key TEXT PRIMARY KEY, value TEXT)");
+  db.exec(kMixedTable);
+  mc::ColumnsDigester digester("segments", mc::declared_columns(db.handle(), "segments"));
+  rp::FedRowDigests<MixedRows::kColumns> fed(digester);
+  // Two batches through one digester, as the segments writer does; fids mostly consecutive
+  // (handed to SQLite as NULL), some after a gap.
+  std::vector<std::int64_t> first, second;
+  std::int64_t fid = 3;
+  for (int r = 0; r < 40; ++r) first.push_back(fid += (r % 9 == 0 ? 5 : 1));
+  for (int r = 0; r < 44; ++r) second.push_back(fid += (r % 11 == 0 ? 3 : 1));
+  db.exec("BEGIN");
+  rp::insert_rows(db.handle(), "segments", kMixedColumns, MixedRows(first, 0, &fed));
+  rp::insert_rows(db.handle(), "segments", kMixedColumns, MixedRows(second, first.size(), &fed));
+  db.exec("COMMIT");
+  const mc::WrittenTableDigest written = digester.finish();
+  EXPECT_EQ(written.rows, first.size() + second.size());
+  EXPECT_EQ(written.first_rowid, first.front());
+  EXPECT_EQ(written.last_rowid, fid);
+
+  std::vector<std::string> from_feed;
+  for (const mc::ColumnDigest& column : written.digests) from_feed.push_back(column.sha256_hex);
+  ASSERT_EQ(from_feed.size(), static_cast<std::size_t>(MixedRows::kColumns));
+  EXPECT_EQ(from_feed, digests_read_back(db));
+
+  // One value changed in the file: the digests read back differ in that column only.
+  db.exec("UPDATE segments SET r = 0.75 WHERE fid = " + std::to_string(second[3]));
+  const std::vector<std::string> changed = digests_read_back(db);
+  ASSERT_EQ(changed.size(), from_feed.size());
+  for (std::size_t c = 0; c < changed.size(); ++c) {
+    EXPECT_EQ(changed[c] == from_feed[c], c != 3) << "column " << c;
+  }
+}
+
+/// A source whose rows lack a value: the feed's digests refuse them and the insert fails.
+class ShortRows final : public rp::RowSource {
+ public:
+  explicit ShortRows(rp::FedRowDigests<3>* fed) : fed_(fed) {}
+  std::size_t row_count() const override { return 2; }
+  int column_count() const override { return 3; }
+  std::optional<std::int64_t> ascending_rowid(std::size_t row) const override {
+    return static_cast<std::int64_t>(row) + 1;
+  }
+  void column(std::size_t row, int column, sqlite3_context* out) const override {
+    fed_->column(row, column, out, [&](rp::DigestedRow<3>& whole) {
+      whole.integer(static_cast<std::int64_t>(row) + 1);
+      whole.integer(7);  // column 2 missing
+    });
+  }
+
+ private:
+  rp::FedRowDigests<3>* fed_;
+};
+
+TEST(BulkInsert, FeedDigestsOfARowLackingAValueFailTheInsert) {
+  sqlite::Database db(":memory:", SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
+  db.exec("CREATE TABLE segments (fid INTEGER PRIMARY KEY, a INTEGER, b INTEGER)");
+  mc::ColumnsDigester digester("segments", mc::declared_columns(db.handle(), "segments"));
+  rp::FedRowDigests<3> fed(digester);
+  EXPECT_THROW(rp::insert_rows(db.handle(), "segments", "fid, a, b", ShortRows(&fed)),
+               sqlite::sqlite_error);
 }
 
 }  // namespace

@@ -20,6 +20,7 @@
 #include "roadcross/preprocess/common/progress.hpp"
 #include "roadcross/preprocess/output/bulk_insert.hpp"
 #include "roadcross/preprocess/output/qgis_styles.hpp"
+#include "roadcross/preprocess/output/row_values.hpp"
 #include "roadcross/preprocess/output/rtree_bulk_load.hpp"
 #include "roadcross/schema/gpkg_geometry.hpp"
 #include "roadcross/schema/schema.hpp"
@@ -58,60 +59,6 @@ void AtomicOutput::commit() {
 
 namespace {
 
-/// SegmentRows' values handed to SQLite as a virtual table column's result.
-struct SqliteValue {
-  sqlite3_context* out;
-  void null() {}  // no sqlite3_result_*: NULL
-  void integer(std::int64_t value) { sqlite3_result_int64(out, value); }
-  void real(double value) { sqlite3_result_double(out, value); }
-  /// A text that outlives the insert (interned in the graph, or a static name): not copied.
-  void lasting_text(std::string_view text) {
-    sqlite3_result_text(out, text.data(), static_cast<int>(text.size()), SQLITE_STATIC);
-  }
-  void text(std::string_view text) {
-    sqlite3_result_text(out, text.data(), static_cast<int>(text.size()), SQLITE_TRANSIENT);
-  }
-  void blob(const std::vector<std::uint8_t>& bytes) {
-    sqlite3_result_blob(out, bytes.data(), static_cast<int>(bytes.size()), SQLITE_TRANSIENT);
-  }
-};
-
-/// The same values gathered into a row for the table's digester (mapcheck::ColumnsDigester),
-/// which takes each through its column's affinity as SQLite stores it. A text or blob that does
-/// not outlive the call is kept here, one buffer a column (reused row after row), until the row
-/// is digested.
-template <std::size_t kColumns>
-class DigestedRow {
- public:
-  void null() { add({}); }
-  void integer(std::int64_t value) { add(mapcheck::RowValue::of_integer(value)); }
-  void real(double value) { add(mapcheck::RowValue::of_real(value)); }
-  void lasting_text(std::string_view text) { add(mapcheck::RowValue::of_text(text)); }
-  void text(std::string_view text) {
-    std::string& kept = texts_.at(next_);
-    kept.assign(text);
-    add(mapcheck::RowValue::of_text(kept));
-  }
-  void blob(std::vector<std::uint8_t> bytes) {
-    std::vector<std::uint8_t>& kept = blobs_.at(next_);
-    kept = std::move(bytes);
-    add(mapcheck::RowValue::of_blob({reinterpret_cast<const char*>(kept.data()), kept.size()}));
-  }
-  /// Hands the row to `digester` and starts the next one.
-  void digest(mapcheck::ColumnsDigester& digester) {
-    const std::size_t count = next_;
-    next_ = 0;
-    digester.add_row({values_.data(), count});
-  }
-
- private:
-  void add(const mapcheck::RowValue& value) { values_.at(next_++) = value; }
-  std::array<mapcheck::RowValue, kColumns> values_{};
-  std::array<std::string, kColumns> texts_;
-  std::array<std::vector<std::uint8_t>, kColumns> blobs_;
-  std::size_t next_ = 0;
-};
-
 template <typename Out>
 void result(Out& out, MaybeInt value) {
   value ? out.integer(*value) : out.null();
@@ -148,13 +95,16 @@ class SegmentRows final : public RowSource {
   static constexpr int kColumns = 2 + static_cast<int>(schema::kSegmentColumnCount);
 
   /// Rows [first, last) of the graph's segments; `rule`: what the stored verdict is judged under.
+  /// With `fed_digests`, column() hands SQLite the rows it digests: each value computed once
+  /// for the file and its digests (the geometry's encoding, the reasons, the verdict).
   SegmentRows(const RoadGraph& graph, const SuitabilityRule& rule, std::size_t first,
-              std::size_t last)
+              std::size_t last, FedRowDigests<kColumns>* fed_digests = nullptr)
       : graph_(graph),
         rule_(rule),
         first_(first),
         count_(last - first),
-        srs_id_(graph.zone.epsg()) {}
+        srs_id_(graph.zone.epsg()),
+        fed_digests_(fed_digests) {}
   std::size_t row_count() const override { return count_; }
   int column_count() const override { return kColumns; }
 
@@ -163,18 +113,33 @@ class SegmentRows final : public RowSource {
   }
 
   void column(std::size_t row, int column, sqlite3_context* out) const override {
-    SqliteValue value{out};
-    put(row, column, value);
+    if (fed_digests_) {
+      fed_digests_->column(first_ + row, column, out,
+                           [&](DigestedRow<kColumns>& whole) { fill(row, whole); });
+      return;
+    }
+    to_sqlite(row, column, out);
   }
 
   /// Row `row` as column() gives it to SQLite, the fid included. One thread per SegmentRows.
   void digest_row(std::size_t row, mapcheck::ColumnsDigester& digester) const override {
-    digested_.integer(RoadGraph::id_at(first_ + row));
-    for (int column = 1; column < kColumns; ++column) put(row, column, digested_);
+    fill(row, digested_);
     digested_.digest(digester);
   }
 
  private:
+  /// Out of column()'s fed path, which SQLite calls for every value.
+  [[gnu::noinline]] void to_sqlite(std::size_t row, int column, sqlite3_context* out) const {
+    SqliteValue value{out};
+    put(row, column, value);
+  }
+
+  /// Row `row` whole, the fid included, into `out`.
+  void fill(std::size_t row, DigestedRow<kColumns>& out) const {
+    out.integer(RoadGraph::id_at(first_ + row));
+    for (int column = 1; column < kColumns; ++column) put(row, column, out);
+  }
+
   /// Value `column` (1 .. kColumns - 1) of row `row`, put into `out` (SqliteValue or
   /// DigestedRow): the one place that says what the file holds.
   template <typename Out>
@@ -313,6 +278,7 @@ class SegmentRows final : public RowSource {
   SuitabilityRule rule_;
   std::size_t first_, count_;
   std::int32_t srs_id_;
+  FedRowDigests<kColumns>* fed_digests_;
   /// digest_row's row, its buffers reused.
   mutable DigestedRow<kColumns> digested_;
 };
@@ -576,17 +542,23 @@ void GeoPackageWriter::write_segment_rows_as_final(
     mapcheck::ColumnsDigester digester(
         std::string(schema::kSegmentsTable),
         mapcheck::declared_columns(db_->handle(), schema::kSegmentsTable));
+    FedRowDigests<SegmentRows::kColumns> fed_digests(digester);
     for (std::size_t begin = 0; begin < total;) {
       const std::size_t end =
           std::min(final_segments.wait_for(begin + batch_rows), begin + batch_rows);
       before_batch(begin, end);
-      const SegmentRows rows(graph, rule, begin, end);
+      // The table's digests from the values as SQLite is given them, on this thread while the
+      // producer runs.
+      const SegmentRows rows(graph, rule, begin, end, &fed_digests);
       insert_rows(db_->handle(), schema::kSegmentsTable, columns, rows);
+      // Every row inserted (insert_rows checks) was digested whole.
+      if (digester.rows() != end) {
+        throw std::logic_error("segments writer: " + std::to_string(digester.rows()) +
+                               " rows digested of " + std::to_string(end));
+      }
       // Written out beside the producer, not at the commit after it; and the cache stays one
       // batch's pages, beside the producer's peak memory.
       write_out_pages(*db_);
-      // The table's digests from the same rows, on this thread while the producer runs.
-      for (std::size_t row = 0; row < rows.row_count(); ++row) rows.digest_row(row, digester);
       streamed_rows_ = begin = end;
     }
     std::promise<mapcheck::WrittenTableDigest> digest;
