@@ -269,13 +269,26 @@ ContextReport compute_way_context(RoadGraph& graph, const RoadNetwork& network,
     piece.lanes = w.lanes;
     piece.width_m = w.width_m;
   }
+  // A way's segments run in a row and share their notes before and after: the note table's
+  // hash lookup only when either changes. (The highway, and so the scores, are the way's.)
+  std::size_t last_way = std::numeric_limits<std::size_t>::max();
+  std::uint32_t last_notes = 0, last_result = 0;
   for (Segment& s : graph.segments) {
     const std::size_t way_index = graph.pieces[s.piece_index].way_index;
     const SegmentContext& w = ways[way_index];
-    graph.set_context_defaulted(s, w.defaulted);
-    report.way_scores[way_index] = {
-        context_score(w.maxspeed_kmh, w.lanes, w.width_m, graph.highway(s), false, p),
-        context_score(w.maxspeed_kmh, w.lanes, w.width_m, graph.highway(s), true, p)};
+    if (way_index != last_way || s.notes != last_notes) {
+      last_notes = s.notes;
+      graph.set_context_defaulted(s, w.defaulted);
+      last_result = s.notes;
+      if (way_index != last_way) {
+        report.way_scores[way_index] = {
+            context_score(w.maxspeed_kmh, w.lanes, w.width_m, graph.highway(s), false, p),
+            context_score(w.maxspeed_kmh, w.lanes, w.width_m, graph.highway(s), true, p)};
+      }
+      last_way = way_index;
+    } else {
+      s.notes = last_result;
+    }
   }
   return report;
 }
