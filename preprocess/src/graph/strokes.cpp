@@ -3,8 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <future>
 #include <limits>
 #include <unordered_map>
+#include <utility>
+
+#include "roadcross/preprocess/common/parallel.hpp"
 
 namespace roadcross::preprocess {
 namespace {
@@ -80,8 +84,11 @@ std::vector<Stroke> build_strokes(const RoadGraph& graph) {
   return strokes;
 }
 
-void for_each_stroke(const RoadGraph& graph, const std::function<void(const Stroke&)>& visit) {
-  const Incidences incidences = incidences_of(graph);
+namespace {
+
+/// Calls chain(steps, closed) for the pieces of every stroke, in for_each_stroke's order.
+template <typename Chain>
+void for_each_chain(const RoadGraph& graph, const Incidences& incidences, Chain&& chain) {
   std::vector<char> visited(graph.pieces.size(), 0);
   for (std::size_t p = 0; p < graph.pieces.size(); ++p) {
     if (visited[p]) continue;
@@ -104,8 +111,56 @@ void for_each_stroke(const RoadGraph& graph, const std::function<void(const Stro
     } else {
       closed = incidences.at(piece.from_node_id).size() == 2;
     }
-    visit(make_stroke(graph, steps, closed));
+    chain(std::move(steps), closed);
   }
+}
+
+}  // namespace
+
+void for_each_stroke(const RoadGraph& graph, const std::function<void(const Stroke&)>& visit) {
+  const Incidences incidences = incidences_of(graph);
+  for_each_chain(graph, incidences, [&](const std::deque<Step>& steps, bool closed) {
+    visit(make_stroke(graph, steps, closed));
+  });
+}
+
+void for_each_stroke_parallel(const RoadGraph& graph, const Incidences& incidences,
+                              const std::function<void(const Stroke&)>& visit) {
+  // This thread only finds each stroke's pieces (the walk needs the pieces visited before);
+  // building the strokes' lines and visiting them, most of the work, run on every core. Enough
+  // segments a batch that a handover costs little beside the visits; few enough that two
+  // batches held at once are nothing beside the graph.
+  constexpr std::size_t kBatchSegments = 1 << 15;
+  constexpr std::size_t kChunk = 16;
+  struct Chain {
+    std::deque<Step> steps;
+    bool closed = false;
+  };
+  std::vector<Chain> filling, visiting;
+  std::size_t filling_segments = 0;
+  // Declared after the batches: an exception here waits for the visits of `visiting` first.
+  std::future<void> visits;
+  const auto hand_over = [&] {
+    if (visits.valid()) visits.get();
+    std::swap(filling, visiting);
+    filling.clear();
+    filling_segments = 0;
+    visits = std::async(std::launch::async, [&graph, &visiting, &visit] {
+      parallel_for<NoState>(
+          visiting.size(),
+          [&](std::size_t k, NoState&) {
+            visit(make_stroke(graph, visiting[k].steps, visiting[k].closed));
+          },
+          kChunk);
+    });
+  };
+  for_each_chain(graph, incidences, [&](std::deque<Step>&& steps, bool closed) {
+    for (const Step& step : steps) filling_segments += graph.pieces[step.piece].segment_count;
+    filling.push_back({std::move(steps), closed});
+    if (filling_segments >= kBatchSegments) hand_over();
+  });
+  if (!filling.empty()) hand_over();
+  if (visits.valid()) visits.get();
 }
 
 namespace {
