@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <future>
 #include <limits>
 #include <optional>
 
@@ -248,9 +249,16 @@ ContextReport compute_way_context(RoadGraph& graph, const RoadNetwork& network,
          context.defaulted.empty() ? nullptr : graph.text.intern(join(context.defaulted))};
   }
 
-  report.crossings = find_crossings(network, graph);
-  assign_kerbs(graph, network, report.crossings, p.crossing_distance_max_m);
+  // The crossings with their kerbs and the sidewalks only read the pieces' lines and write
+  // apart (graph.kerbs; each piece's sidewalks): the crossings' serial search runs on a thread
+  // of its own beside the sidewalks' grid and per-piece search.
+  std::future<std::vector<Crossing>> crossings = std::async(std::launch::async, [&] {
+    std::vector<Crossing> found = find_crossings(network, graph);
+    assign_kerbs(graph, network, found, p.crossing_distance_max_m);
+    return found;
+  });
   assign_sidewalks(graph, network, kSidewalkBeyondEdgeM);
+  report.crossings = crossings.get();
   for (const auto& [index, facts] : graph.kerbs) {
     report.kerb_segments += facts.kerb_height_m ? 1 : 0;
     report.island_segments += facts.island.value_or(false) ? 1 : 0;
