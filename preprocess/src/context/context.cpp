@@ -304,6 +304,11 @@ ContextReport compute_way_context(RoadGraph& graph, const RoadNetwork& network,
 void finish_context(RoadGraph& graph, const ContextParameters& p,
                     const std::vector<Override>& overrides, ContextReport& report) {
   assign_crossing_distances(graph, report.crossings);
+  score_context(graph, p, overrides, report);
+}
+
+void score_context(RoadGraph& graph, const ContextParameters& p,
+                   const std::vector<Override>& overrides, ContextReport& report) {
   for (Segment& s : graph.segments) {
     const ContextReport::WayScores& scores =
         report.way_scores[graph.pieces[s.piece_index].way_index];
