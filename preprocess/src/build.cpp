@@ -261,9 +261,11 @@ void terrain_stage(const BuildOptions& options, Pipeline& p, std::future<void>& 
 /// The crossing distances (a search over the whole graph, so run once the network is freed) pick
 /// the context scores; the overrides change any cost, so they (and BUSY_ROAD after them) come
 /// after the other stages.
-void context_scores_stage(const BuildOptions& options, Pipeline& p, Progress& progress) {
+void context_scores_stage(const BuildOptions& options, Pipeline& p,
+                          std::future<void>& crossing_distances, Progress& progress) {
   progress.start_stage("context: crossing distances, overrides");
-  finish_context(p.graph, options.parameters.context, p.overrides, p.context);
+  crossing_distances.get();
+  score_context(p.graph, options.parameters.context, p.overrides, p.context);
   progress.finish_stage(std::to_string(p.context.busy_segments) + " BUSY_ROAD segments");
 }
 
@@ -487,10 +489,16 @@ BuildSummary run_build(const BuildOptions& options) {
   std::future<void> segment_index =
       std::async(std::launch::async, [&] { writer->write_segment_index(p.graph); });
 
+  // The crossing distances' search is serial and needs only the pieces' ends and lengths (final
+  // from here on); it writes only the segments' crossing distances, which no cost stage reads:
+  // it runs beside the geometry stage, on the core its own serial parts leave idle.
+  std::future<void> crossing_distances = std::async(
+      std::launch::async, [&] { assign_crossing_distances(p.graph, p.context.crossings); });
+
   // The cost stages, in this order; each fills its Segment fields and appends its reasons.
   geometry_stage(options, p, progress);
   terrain_stage(options, p, segment_index, progress);
-  context_scores_stage(options, p, progress);
+  context_scores_stage(options, p, crossing_distances, progress);
   if (with_sight) {
     sight_and_segment_rows(options, p, *writer, segment_index, obstacles, input_hashes, output,
                            progress);

@@ -9,11 +9,13 @@
 
 #include <cmath>
 #include <map>
+#include <optional>
 
 #include "osm_fixture.hpp"
 #include "roadcross/preprocess/build.hpp"
 #include "roadcross/preprocess/common/progress.hpp"
 #include "roadcross/preprocess/context/context.hpp"
+#include "roadcross/preprocess/context/crossings.hpp"
 #include "roadcross/preprocess/graph/segments.hpp"
 #include "roadcross/preprocess/osm/road_network.hpp"
 #include "roadcross/schema/schema.hpp"
@@ -244,3 +246,36 @@ TEST(ContextStage, CrossingsTableInTheGeoPackage) {
 }
 
 }  // namespace
+
+TEST(ContextStage, SidewalkWaysOnManyPiecesGiveEachItsOwnSides) {
+  // 600 parallel east-west roads 111 m apart (several of the per-piece search's chunks), each
+  // with a separately mapped sidewalk 6 m north (left), south (right), both or neither, in turn.
+  rp::RoadNetwork network;
+  constexpr int kRoads = 600;
+  constexpr double kSidewalkDeg = 6.0 / 111'195.0;  // 6 m of latitude
+  std::vector<rp::NodeLocation> sidewalk_nodes;
+  for (int r = 0; r < kRoads; ++r) {
+    const double lat = 50.0 + 0.001 * r;
+    const std::int64_t a = 1'000'000 + 2 * r, b = a + 1;
+    network.ways.push_back({100 + r, "residential", {{"highway", "residential"}}, {a, b}});
+    network.locations.push_back({a, lat, 14.0});
+    network.locations.push_back({b, lat, 14.0009});
+    for (const int side : {1, -1}) {
+      if (!(r % 4 == 3 || r % 4 == (side == 1 ? 1 : 2))) continue;
+      const std::int64_t s = 2'000'000 + 4 * r + (side == 1 ? 0 : 2);
+      sidewalk_nodes.push_back({s, lat + side * kSidewalkDeg, 13.9999});
+      sidewalk_nodes.push_back({s + 1, lat + side * kSidewalkDeg, 14.0010});
+      network.sidewalk_ways.push_back({5000 + 2 * r + (side == 1 ? 0 : 1), {s, s + 1}});
+    }
+  }
+  network.crossing_way_locations = sidewalk_nodes;
+  rp::RoadGraph graph = rp::build_road_graph(network, rp::choose_utm_zone(network), 10.0);
+  ASSERT_EQ(graph.pieces.size(), static_cast<std::size_t>(kRoads));
+  rp::assign_sidewalks(graph, network, 8.0);
+  for (const rp::RoadPiece& piece : graph.pieces) {
+    const int r = static_cast<int>(piece.osm_way_id - 100);
+    const bool left = r % 4 == 1 || r % 4 == 3, right = r % 4 == 2 || r % 4 == 3;
+    EXPECT_EQ(piece.sidewalks.left, left ? std::optional<bool>(true) : std::nullopt) << r;
+    EXPECT_EQ(piece.sidewalks.right, right ? std::optional<bool>(true) : std::nullopt) << r;
+  }
+}

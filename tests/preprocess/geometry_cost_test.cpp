@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 
 #include "roadcross/preprocess/common/errors.hpp"
@@ -525,6 +526,77 @@ TEST(Strokes, IsolatedRoundaboutIsAClosedStroke) {
   rp::compute_geometry_costs(b.graph, {});
   // Every segment of a 20 m ring has the ring's radius (no open ends on a ring).
   for (const rp::Segment& s : b.graph.segments) EXPECT_NEAR(*s.radius_m, 20.0, 2.0);
+}
+
+TEST(Strokes, ParallelVisitsTheSameStrokesAsTheSerialWalk) {
+  // A grid of streets, each row and column one way drawn with a wiggle, cut at every crossing:
+  // chains through degree-2 nodes (the wiggles' joints), junctions, dead ends and a ring; ~100k
+  // segments, several of for_each_stroke_parallel's batches.
+  GraphBuilder b;
+  constexpr int kN = 40;
+  const auto node = [](int i, int j, int part) {
+    return static_cast<std::int64_t>((i * kN + j) * 4 + part + 10);
+  };
+  for (int i = 0; i < kN; ++i) {
+    for (int j = 0; j + 1 < kN; ++j) {
+      const double x = 100.0 * j, y = 100.0 * i;
+      // Along the row: two pieces joined at a degree-2 node, the second drawn backwards.
+      b.add_piece(node(i, j, 0), node(i, j, 1), {{x, y}, {x + 25, y + 3}, {x + 50, y}}, "tertiary",
+                  2.0, 5000 + i);
+      b.add_piece(node(i, j + 1, 0), node(i, j, 1), {{x + 100, y}, {x + 75, y - 2}, {x + 50, y}},
+                  "tertiary", 2.0, 5000 + i);
+      // Along the column (left out in every fifth column: dead ends and degree-2 row nodes).
+      if (j % 5 == 4) continue;
+      const double cx = 100.0 * i, cy = 100.0 * j;
+      b.add_piece(node(j, i, 0), node(j + 1, i, 0), {{cx, cy}, {cx + 4, cy + 50}, {cx, cy + 100}},
+                  "residential", 3.0, 9000 + i);
+    }
+  }
+  std::vector<PlanePoint> ring = arc(20, 2, 2 * kPi);
+  ring.back() = ring.front();
+  b.add_piece(1, 1, ring);
+  ASSERT_GT(b.graph.segments.size(), 100000u);
+
+  // Each stroke recorded under its first segment (strokes share no segment).
+  using Record = std::vector<double>;
+  const auto record = [](const rp::Stroke& stroke) {
+    Record r = {stroke.length_m, stroke.closed ? 1.0 : 0.0,
+                static_cast<double>(stroke.points.size())};
+    for (const PlanePoint& p : stroke.points) r.insert(r.end(), {p.x, p.y});
+    for (const rp::StrokeSegment& s : stroke.segments) {
+      r.insert(r.end(),
+               {static_cast<double>(s.segment), s.reversed ? 1.0 : 0.0, s.start_m, s.end_m});
+    }
+    return r;
+  };
+  std::vector<Record> serial(b.graph.segments.size()), parallel(b.graph.segments.size());
+  std::size_t serial_count = 0;
+  rp::for_each_stroke(b.graph, [&](const rp::Stroke& stroke) {
+    serial[stroke.segments.front().segment] = record(stroke);
+    ++serial_count;
+  });
+  std::atomic<std::size_t> parallel_count{0};
+  const rp::Incidences incidences(b.graph);
+  rp::for_each_stroke_parallel(b.graph, incidences, [&](const rp::Stroke& stroke) {
+    parallel[stroke.segments.front().segment] = record(stroke);
+    ++parallel_count;
+  });
+  EXPECT_GT(serial_count, 1000u);
+  EXPECT_EQ(parallel_count, serial_count);
+  EXPECT_TRUE(serial == parallel);
+
+  // The costs from the parallel strokes: the same on a second run, and set on every segment.
+  rp::compute_geometry_costs(b.graph, {});
+  std::vector<std::pair<int, float>> first;
+  for (const rp::Segment& s : b.graph.segments) {
+    ASSERT_TRUE(s.curvature_cost && s.radius_m);
+    first.emplace_back(*s.curvature_cost, *s.radius_m);
+  }
+  rp::compute_geometry_costs(b.graph, {});
+  for (std::size_t k = 0; k < first.size(); ++k) {
+    ASSERT_EQ(*b.graph.segments[k].curvature_cost, first[k].first) << k;
+    ASSERT_EQ(*b.graph.segments[k].radius_m, first[k].second) << k;
+  }
 }
 
 // ---- The elevation cost: the method's scale and window. -------------------------------------

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <future>
 #include <limits>
 #include <optional>
 
@@ -248,9 +249,16 @@ ContextReport compute_way_context(RoadGraph& graph, const RoadNetwork& network,
          context.defaulted.empty() ? nullptr : graph.text.intern(join(context.defaulted))};
   }
 
-  report.crossings = find_crossings(network, graph);
-  assign_kerbs(graph, network, report.crossings, p.crossing_distance_max_m);
+  // The crossings with their kerbs and the sidewalks only read the pieces' lines and write
+  // apart (graph.kerbs; each piece's sidewalks): the crossings' serial search runs on a thread
+  // of its own beside the sidewalks' grid and per-piece search.
+  std::future<std::vector<Crossing>> crossings = std::async(std::launch::async, [&] {
+    std::vector<Crossing> found = find_crossings(network, graph);
+    assign_kerbs(graph, network, found, p.crossing_distance_max_m);
+    return found;
+  });
   assign_sidewalks(graph, network, kSidewalkBeyondEdgeM);
+  report.crossings = crossings.get();
   for (const auto& [index, facts] : graph.kerbs) {
     report.kerb_segments += facts.kerb_height_m ? 1 : 0;
     report.island_segments += facts.island.value_or(false) ? 1 : 0;
@@ -269,13 +277,26 @@ ContextReport compute_way_context(RoadGraph& graph, const RoadNetwork& network,
     piece.lanes = w.lanes;
     piece.width_m = w.width_m;
   }
+  // A way's segments run in a row and share their notes before and after: the note table's
+  // hash lookup only when either changes. (The highway, and so the scores, are the way's.)
+  std::size_t last_way = std::numeric_limits<std::size_t>::max();
+  std::uint32_t last_notes = 0, last_result = 0;
   for (Segment& s : graph.segments) {
     const std::size_t way_index = graph.pieces[s.piece_index].way_index;
     const SegmentContext& w = ways[way_index];
-    graph.set_context_defaulted(s, w.defaulted);
-    report.way_scores[way_index] = {
-        context_score(w.maxspeed_kmh, w.lanes, w.width_m, graph.highway(s), false, p),
-        context_score(w.maxspeed_kmh, w.lanes, w.width_m, graph.highway(s), true, p)};
+    if (way_index != last_way || s.notes != last_notes) {
+      last_notes = s.notes;
+      graph.set_context_defaulted(s, w.defaulted);
+      last_result = s.notes;
+      if (way_index != last_way) {
+        report.way_scores[way_index] = {
+            context_score(w.maxspeed_kmh, w.lanes, w.width_m, graph.highway(s), false, p),
+            context_score(w.maxspeed_kmh, w.lanes, w.width_m, graph.highway(s), true, p)};
+      }
+      last_way = way_index;
+    } else {
+      s.notes = last_result;
+    }
   }
   return report;
 }
@@ -283,6 +304,11 @@ ContextReport compute_way_context(RoadGraph& graph, const RoadNetwork& network,
 void finish_context(RoadGraph& graph, const ContextParameters& p,
                     const std::vector<Override>& overrides, ContextReport& report) {
   assign_crossing_distances(graph, report.crossings);
+  score_context(graph, p, overrides, report);
+}
+
+void score_context(RoadGraph& graph, const ContextParameters& p,
+                   const std::vector<Override>& overrides, ContextReport& report) {
   for (Segment& s : graph.segments) {
     const ContextReport::WayScores& scores =
         report.way_scores[graph.pieces[s.piece_index].way_index];

@@ -485,10 +485,25 @@ std::unordered_map<std::int64_t, std::vector<SidewalkEdge>> sidewalk_grid(
     const geo::UtmPoint p = geo::wgs84_to_utm(location->lat_deg, location->lon_deg, zone);
     return PlanePoint{p.easting_m, p.northing_m};
   };
-  for (const SidewalkWay& way : network.sidewalk_ways) {
+  // The projections (most of the work) on every core into one flat array, way after way; the
+  // grid is then filled in way order on this thread, so its cells list edges as before.
+  const std::vector<SidewalkWay>& ways = network.sidewalk_ways;
+  std::vector<std::size_t> first(ways.size() + 1, 0);
+  for (std::size_t w = 0; w < ways.size(); ++w) first[w + 1] = first[w] + ways[w].node_ids.size();
+  std::vector<std::optional<PlanePoint>> points(first.back());
+  constexpr std::size_t kChunk = 64;
+  parallel_for<NoState>(
+      ways.size(),
+      [&](std::size_t w, NoState&) {
+        for (std::size_t k = 0; k < ways[w].node_ids.size(); ++k) {
+          points[first[w] + k] = locate(ways[w].node_ids[k]);
+        }
+      },
+      kChunk);
+  for (std::size_t w = 0; w < ways.size(); ++w) {
     std::optional<PlanePoint> previous;
-    for (std::int64_t id : way.node_ids) {
-      const std::optional<PlanePoint> here = locate(id);
+    for (std::size_t k = first[w]; k < first[w + 1]; ++k) {
+      const std::optional<PlanePoint> here = points[k];
       if (previous && here) {
         for (std::int64_t x = sidewalk_cell(std::min(previous->x, here->x));
              x <= sidewalk_cell(std::max(previous->x, here->x)); ++x) {
@@ -570,24 +585,31 @@ void assign_sidewalks(RoadGraph& graph, const RoadNetwork& network, double sidew
   }
   if (!any_unknown || network.sidewalk_ways.empty()) return;
   const auto grid = sidewalk_grid(network, graph.zone);
-  for (RoadPiece& piece : graph.pieces) {
-    if (piece.sidewalks.left && piece.sidewalks.right) continue;
-    const double reach_m = 0.5 * piece.width_m.value_or(6.0f) + sidewalk_reach_m;
-    std::size_t left_votes = 0, right_votes = 0;
-    for (std::size_t k = 0; k < piece.segment_count; ++k) {
-      const Segment& s = graph.segments[piece.first_segment + k];
-      const auto [mid, yaw] = midpoint_and_yaw(graph.line(s));
-      const int near = sidewalks_near(grid, mid, yaw, reach_m);
-      left_votes += (near == 1 || near == 2) ? 1 : 0;
-      right_votes += (near == -1 || near == 2) ? 1 : 0;
-    }
-    // At least half of the segments: a sidewalk that only touches the piece's end (the
-    // pavement of a side street) does not count.
-    if (!piece.sidewalks.left && 2 * left_votes >= piece.segment_count && left_votes > 0)
-      piece.sidewalks.left = true;
-    if (!piece.sidewalks.right && 2 * right_votes >= piece.segment_count && right_votes > 0)
-      piece.sidewalks.right = true;
-  }
+  // Piece by piece on every core: each reads the grid and its own segments and writes only its
+  // own sides.
+  constexpr std::size_t kChunk = 256;
+  parallel_for<NoState>(
+      graph.pieces.size(),
+      [&](std::size_t p, NoState&) {
+        RoadPiece& piece = graph.pieces[p];
+        if (piece.sidewalks.left && piece.sidewalks.right) return;
+        const double reach_m = 0.5 * piece.width_m.value_or(6.0f) + sidewalk_reach_m;
+        std::size_t left_votes = 0, right_votes = 0;
+        for (std::size_t k = 0; k < piece.segment_count; ++k) {
+          const Segment& s = graph.segments[piece.first_segment + k];
+          const auto [mid, yaw] = midpoint_and_yaw(graph.line(s));
+          const int near = sidewalks_near(grid, mid, yaw, reach_m);
+          left_votes += (near == 1 || near == 2) ? 1 : 0;
+          right_votes += (near == -1 || near == 2) ? 1 : 0;
+        }
+        // At least half of the segments: a sidewalk that only touches the piece's end (the
+        // pavement of a side street) does not count.
+        if (!piece.sidewalks.left && 2 * left_votes >= piece.segment_count && left_votes > 0)
+          piece.sidewalks.left = true;
+        if (!piece.sidewalks.right && 2 * right_votes >= piece.segment_count && right_votes > 0)
+          piece.sidewalks.right = true;
+      },
+      kChunk);
 }
 
 }  // namespace roadcross::preprocess

@@ -370,12 +370,16 @@ void compute_geometry_costs(RoadGraph& graph, const GeometryParameters& p) {
   const Incidences nodes(graph);
   const std::vector<std::uint8_t> within_junction_extent =
       assign_junction_distances(graph, nodes, p);
-  // Every level first: a window reaches beyond its stroke into the road that goes on.
-  for_each_stroke(
-      graph, [&](const Stroke& stroke) { assign_radii(graph, stroke, within_junction_extent, p); });
+  // Every level first: a window reaches beyond its stroke into the road that goes on. A stroke
+  // writes only its own segments (radius, level, reasons; then the cost from the levels), so
+  // the strokes run on every core.
+  for_each_stroke_parallel(graph, nodes, [&](const Stroke& stroke) {
+    assign_radii(graph, stroke, within_junction_extent, p);
+  });
   const Incidences* through = p.window_through_junctions != 0.0 ? &nodes : nullptr;
-  for_each_stroke(graph,
-                  [&](const Stroke& stroke) { assign_curvature_costs(graph, stroke, p, through); });
+  for_each_stroke_parallel(graph, nodes, [&](const Stroke& stroke) {
+    assign_curvature_costs(graph, stroke, p, through);
+  });
 }
 
 }  // namespace roadcross::preprocess

@@ -99,6 +99,12 @@ ContextReport compute_way_context(RoadGraph& graph, const RoadNetwork& network,
 void finish_context(RoadGraph& graph, const ContextParameters& parameters,
                     const std::vector<Override>& overrides, ContextReport& report);
 
+/// finish_context after assign_crossing_distances(graph, report.crossings) has run: the build
+/// runs that search beside the geometry stage (it needs only the pieces' ends and lengths, and
+/// writes only the segments' crossing distances).
+void score_context(RoadGraph& graph, const ContextParameters& parameters,
+                   const std::vector<Override>& overrides, ContextReport& report);
+
 /// Both parts at once. `overrides` may be empty.
 ContextReport compute_context(RoadGraph& graph, const RoadNetwork& network,
                               const ContextParameters& parameters, std::string_view country_option,

@@ -35,6 +35,13 @@ std::vector<Stroke> build_strokes(const RoadGraph& graph);
 /// Holds one stroke at a time (all of them take ~40 bytes a segment).
 void for_each_stroke(const RoadGraph& graph, const std::function<void(const Stroke&)>& visit);
 
+/// The strokes of for_each_stroke(), built and visited on every core: batches of strokes (a few
+/// thousand segments) run in parallel while this thread finds the next batch's pieces.
+/// `incidences` are the graph's. `visit` may write only its own stroke's segments' fields, and
+/// read no field another stroke's visit writes; it must not depend on the order of the strokes.
+void for_each_stroke_parallel(const RoadGraph& graph, const Incidences& incidences,
+                              const std::function<void(const Stroke&)>& visit);
+
 /// Windowed mean along a stroke, for every segment of it (in stroke order): the
 /// length-weighted mean of `values` (one per stroke segment, in stroke order) over the road
 /// within +-half_length_m of the segment's midpoint, the segment itself counted `own_weight`
