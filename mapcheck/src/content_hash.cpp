@@ -46,6 +46,7 @@ class Sha256 {
     }
   }
   void update(const void* bytes, std::size_t size) {
+    if (size == 0) return;  // (an empty text's or blob's data may be null: no memcpy from it)
     if (used_ + size > kBufferBytes) flush();
     if (size >= kBufferBytes) {
       hash(bytes, size);  // a large value goes straight through
