@@ -18,6 +18,7 @@
 #include "roadcross/files/atomic_file.hpp"
 #include "roadcross/mapcheck/content_hash.hpp"
 #include "roadcross/preprocess/common/errors.hpp"
+#include "roadcross/preprocess/common/gdal_module.hpp"
 #include "roadcross/preprocess/common/parallel.hpp"
 #include "roadcross/preprocess/common/progress.hpp"
 #include "roadcross/preprocess/common/sha256.hpp"
@@ -189,6 +190,8 @@ void check_options(const BuildOptions& options) {
   options.parameters.validate();
   if (options.osm_path.empty()) throw ParameterError("an OSM input file is required (--osm)");
   if (options.output_path.empty()) throw ParameterError("an output path is required (-o)");
+  // Elevation needs the GDAL module: a missing one fails here, before minutes of work.
+  if (!options.elevation.sources.empty()) gdal_module();
   if (!options.country.empty() && !has_implicit_speeds(options.country)) {
     throw ParameterError("--country " + options.country +
                          ": no implicit speed limits for it (known: CZ, SK, DE, AT, PL, FR, MC, "

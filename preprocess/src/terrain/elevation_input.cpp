@@ -1,9 +1,5 @@
 #include "roadcross/preprocess/terrain/elevation_input.hpp"
 
-#include <cpl_error.h>
-#include <gdal_priv.h>
-#include <ogr_spatialref.h>
-
 #include <algorithm>
 #include <cctype>
 #include <charconv>
@@ -14,6 +10,7 @@
 #include <string_view>
 
 #include "roadcross/preprocess/common/errors.hpp"
+#include "roadcross/preprocess/common/gdal_module.hpp"
 
 namespace roadcross::preprocess {
 
@@ -158,51 +155,17 @@ std::string detect_xyz_crs(const std::string& path, const std::vector<ElevationP
                              "S-JTSK or EPSG:32633 for UTM 33N");
 }
 
-struct CrsTransform::Impl {
-  OGRSpatialReference source, utm;
-  std::unique_ptr<OGRCoordinateTransformation> forward, inverse;
-};
-
 CrsTransform::CrsTransform(const std::string& crs, const geo::UtmZone& zone)
-    : impl_(std::make_unique<Impl>()) {
-  impl_->source.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-  impl_->utm.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-  CPLPushErrorHandler(CPLQuietErrorHandler);  // the ParameterError below says it for GDAL
-  const OGRErr parsed = impl_->source.SetFromUserInput(crs.c_str());
-  CPLPopErrorHandler();
-  if (parsed != OGRERR_NONE) {
-    throw ParameterError("--elevation-crs " + crs +
-                         ": not a coordinate system GDAL/PROJ knows (use e.g. EPSG:5514)");
-  }
-  impl_->utm.importFromEPSG(zone.epsg());
-  impl_->forward.reset(OGRCreateCoordinateTransformation(&impl_->source, &impl_->utm));
-  impl_->inverse.reset(OGRCreateCoordinateTransformation(&impl_->utm, &impl_->source));
-  if (!impl_->forward || !impl_->inverse) {
-    throw ParameterError("no transformation from " + crs + " to UTM zone " +
-                         std::to_string(zone.zone));
-  }
-}
+    : backend_(gdal_module().crs_transform(crs, zone)) {}
 
 CrsTransform::~CrsTransform() = default;
 
-namespace {
-void transform_in_place(OGRCoordinateTransformation& t, std::vector<double>& x,
-                        std::vector<double>& y) {
-  std::vector<int> ok(x.size(), 0);
-  t.Transform(static_cast<int>(x.size()), x.data(), y.data(), nullptr, ok.data());
-  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    if (!ok[i] || !std::isfinite(x[i]) || !std::isfinite(y[i])) x[i] = y[i] = nan;
-  }
-}
-}  // namespace
-
 void CrsTransform::to_utm(std::vector<double>& x, std::vector<double>& y) const {
-  transform_in_place(*impl_->forward, x, y);
+  backend_->to_utm(x, y);
 }
 
 void CrsTransform::from_utm(std::vector<double>& x, std::vector<double>& y) const {
-  transform_in_place(*impl_->inverse, x, y);
+  backend_->from_utm(x, y);
 }
 
 }  // namespace roadcross::preprocess

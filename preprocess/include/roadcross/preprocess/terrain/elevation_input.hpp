@@ -1,6 +1,6 @@
 // Elevation inputs: ČÚZK-style XYZ point files ("easting northing altitude" per line) and any
 // raster GDAL reads, plus the coordinate transformation into the DB's UTM zone.
-// GDAL/PROJ stay inside the .cpp: this header is plain C++.
+// GDAL/PROJ stay inside the GDAL module (common/gdal_module.hpp): this header is plain C++.
 #pragma once
 
 #include <cstddef>
@@ -33,6 +33,8 @@ struct ElevationSource {
   ElevationKind kind = ElevationKind::raster;
 };
 
+class CrsTransformBackend;
+
 /// XYZ by extension (.xyz .txt .csv .asc-less text), otherwise a raster for GDAL.
 ElevationKind elevation_kind_of(const std::string& path);
 
@@ -55,7 +57,8 @@ void read_xyz_chunks(const std::string& path, std::size_t chunk_points,
 std::string detect_xyz_crs(const std::string& path, const std::vector<ElevationPoint>& points);
 
 /// A coordinate transformation between a user-given CRS ("EPSG:5514", a PROJ string, WKT)
-/// and a UTM zone, with axes in easting/northing (longitude/latitude) order.
+/// and a UTM zone, with axes in easting/northing (longitude/latitude) order. Loads the GDAL
+/// module (throws std::runtime_error when it cannot).
 class CrsTransform {
  public:
   /// Throws ParameterError when `crs` is not a CRS GDAL/PROJ knows.
@@ -70,8 +73,7 @@ class CrsTransform {
   void from_utm(std::vector<double>& x, std::vector<double>& y) const;
 
  private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
+  std::unique_ptr<CrsTransformBackend> backend_;
 };
 
 }  // namespace roadcross::preprocess

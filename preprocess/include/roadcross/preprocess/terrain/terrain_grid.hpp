@@ -78,6 +78,8 @@ struct Grid {
   std::size_t count_valid() const;
 };
 
+class RasterBackend;
+
 /// Fills the NaN cells of `grid` from a raster file (any format and CRS GDAL knows; its nodata
 /// value respected): bilinear between the raster's pixel centres, NaN next to nodata or outside.
 /// Returns the number of cells filled. Throws InputError when GDAL cannot read the file or it
@@ -87,6 +89,7 @@ std::size_t fill_from_raster(Grid& grid, const std::string& path);
 /// A raster elevation file opened once for many grids (the terrain's tiles): the dataset, its
 /// nodata value, scale and offset and the transformation from UTM to the raster's CRS are set
 /// up here, not per tile. GDAL datasets are not thread-safe: one RasterElevation per thread.
+/// Loads the GDAL module (throws std::runtime_error when it cannot).
 class RasterElevation {
  public:
   /// Throws InputError when GDAL cannot read `path` or it has no band, CRS or geotransform.
@@ -109,8 +112,7 @@ class RasterElevation {
   PixelSize pixel_size_at(double easting_m, double northing_m) const;
 
  private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
+  std::unique_ptr<RasterBackend> backend_;
 };
 
 /// Fills the NaN cells of `grid` by linear interpolation on the Delaunay triangulation of
