@@ -528,7 +528,7 @@ void use_written(sqlite3* db, std::vector<TableDigests>& tables,
 
 ContentDigest content_of(const std::string& path, unsigned threads,
                          const WrittenTableDigest* written) {
-  const int flags = SQLITE_OPEN_READONLY | SQLITE_OPEN_NOMUTEX;
+  constexpr int flags = SQLITE_OPEN_READONLY | SQLITE_OPEN_NOMUTEX;
   // Each connection walks the tables' pages mostly in file order: read ahead, not a page a call.
   const char* vfs = bulk_io_vfs();
   sqlite::Database first(path, flags, vfs);
@@ -539,7 +539,7 @@ ContentDigest content_of(const std::string& path, unsigned threads,
   // share computed them. std::async's futures wait for their threads if one share throws.
   std::vector<std::future<void>> others;
   for (std::size_t share = 1; share < shares; ++share) {
-    others.push_back(std::async(std::launch::async, [&path, &tables, share, shares, flags, vfs] {
+    others.push_back(std::async(std::launch::async, [&path, &tables, share, shares, vfs] {
       sqlite::Database db(path, flags, vfs);
       digest_share(db.handle(), tables, share, shares);
     }));
