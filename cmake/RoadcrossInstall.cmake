@@ -41,6 +41,9 @@ install(FILES ${PROJECT_BINARY_DIR}/roadcross-runtime.pc
 install(TARGETS roadcross RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT cli)
 if(TARGET roadcross-build)
   install(TARGETS roadcross-build RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT tools)
+  # The GDAL module, opened by roadcross-build for elevation input (docs/architecture.md).
+  install(TARGETS roadcross_gdal LIBRARY DESTINATION ${ROADCROSS_GDAL_MODULE_INSTALL_DIR}
+          COMPONENT tools)
 endif()
 if(TARGET roadcross-viz)  # beside roadcross, which runs it for render, export and view
   install(TARGETS roadcross-viz RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT tools)

@@ -59,6 +59,16 @@ if ((tools)); then
     grep -q "/usr/bin/$program\$" <<<"$tools_files" ||
       { echo "FAIL: roadcross-tools lacks usr/bin/$program" >&2; exit 1; }
   done
+  grep -q '/usr/lib/roadcross/libroadcross_gdal.so$' <<<"$tools_files" ||
+    { echo "FAIL: roadcross-tools lacks usr/lib/roadcross/libroadcross_gdal.so" >&2; exit 1; }
+  # The unpacked roadcross-build finds the unpacked GDAL module (not the build tree's) for
+  # elevation input.
+  root="$work/doc/roadcross-tools/usr"
+  LD_DEBUG=files "$root/bin/roadcross-build" --osm "$ROADCROSS_MAPS_DIR/prague/prague_nove_mesto_roads_2017.osm" \
+    --elevation "$ROADCROSS_MAPS_DIR/prague/N50E014.hgt" -o "$work/dem.gpkg" -q 2>"$work/ld.log" ||
+    { echo "FAIL: the packaged roadcross-build with elevation" >&2; exit 1; }
+  grep -q "file=$root/lib/roadcross/libroadcross_gdal.so \[" "$work/ld.log" ||
+    { echo "FAIL: the packaged roadcross-build did not load the packaged GDAL module" >&2; exit 1; }
   tools_depends=$(dpkg-deb -f "$tools_deb" Depends)
   grep -q 'roadcross-cli (= ' <<<"$tools_depends" && grep -qi 'gdal' <<<"$tools_depends" ||
     { echo "FAIL: roadcross-tools should depend on roadcross-cli and GDAL: $tools_depends" >&2; exit 1; }

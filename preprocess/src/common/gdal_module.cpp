@@ -19,10 +19,17 @@ std::vector<std::string> module_candidates() {
   std::vector<std::string> candidates;
   std::error_code error;
   const std::filesystem::path executable = std::filesystem::read_symlink("/proc/self/exe", error);
-  if (!error) candidates.push_back((executable.parent_path() / kGdalModuleFile).string());
+  if (!error) {
+    const std::filesystem::path folder = executable.parent_path();
+    candidates.push_back((folder / kGdalModuleFile).string());
+#ifdef ROADCROSS_GDAL_MODULE_FROM_BINDIR
+    candidates.push_back(
+        (folder / ROADCROSS_GDAL_MODULE_FROM_BINDIR / kGdalModuleFile).lexically_normal().string());
+#endif
+  }
 #ifdef ROADCROSS_GDAL_MODULE_BUILD_PATH
   if (candidates.empty() || candidates.front() != ROADCROSS_GDAL_MODULE_BUILD_PATH) {
-    candidates.emplace_back(ROADCROSS_GDAL_MODULE_BUILD_PATH);
+    candidates.emplace_back(ROADCROSS_GDAL_MODULE_BUILD_PATH);  // the tests' executables
   }
 #endif
   return candidates;
