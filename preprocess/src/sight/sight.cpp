@@ -182,24 +182,6 @@ const Incidence* continuation(const std::vector<std::array<PlanePoint, 2>>& leav
   return best;
 }
 
-/// Appends the vertices of `piece` after position pos_m in the walking direction, up to the
-/// first at or beyond range_m along the path (no position, outline or heading reads further).
-void walk_piece(const RoadPiece& piece, const std::vector<double>& cumulative, double pos_m,
-                bool towards_end, double range_m, Path& path) {
-  const std::size_t leg = leg_at(cumulative, pos_m);
-  if (towards_end) {
-    for (std::size_t k = leg + 1; k < piece.points.size(); ++k) {
-      path.add(piece.points[k]);
-      if (path.length_m() >= range_m) return;
-    }
-  } else {
-    for (std::size_t k = leg + 1; k-- > 0;) {
-      path.add(piece.points[k]);
-      if (path.length_m() >= range_m) return;
-    }
-  }
-}
-
 PlanePoint last_heading(const Path& path) {
   const std::size_t n = path.points.size();
   if (n < 2) return {0.0, 0.0};
@@ -229,40 +211,108 @@ std::vector<std::array<std::uint32_t, 2>> end_nodes(const RoadGraph& graph,
   return out;
 }
 
-/// The road from position pos_m of `piece` in one direction, continued through graph nodes
-/// onto the straightest continuation, until it is `range_m` long or reaches a dead end; into
-/// `path` (its buffers are reused from segment to segment). nodes: end_nodes.
-void follow_road(const RoadGraph& graph, const Incidences& incidences,
-                 const std::vector<std::array<std::uint32_t, 2>>& nodes,
-                 const std::vector<std::vector<double>>& cumulative,
-                 const std::vector<std::array<PlanePoint, 2>>& leaving, std::size_t piece,
-                 double pos_m, bool towards_end, double range_m, Path& path) {
-  const RoadPiece& first = graph.pieces[piece];
-  const std::vector<double>& c = cumulative[piece];
-  const std::size_t leg = leg_at(c, pos_m);
-  path.points.clear();
-  path.at_m.clear();
-  path.points.push_back(lerp(first.points[leg], first.points[leg + 1],
-                             (pos_m - c[leg]) / std::max(1e-9, c[leg + 1] - c[leg])));
-  path.at_m.push_back(0.0);
-  walk_piece(first, c, pos_m, towards_end, range_m, path);
-  Incidence arrived{piece, towards_end};
-  // A ring of pieces shorter than the range is walked round again; the bound stops a ring of
-  // zero-length pieces.
-  for (std::size_t hops = 0; path.length_m() < range_m && hops < 10000; ++hops) {
-    const std::uint32_t node = nodes[arrived.piece][arrived.at_end ? 1 : 0];
+/// The road from position pos_m of a piece in one direction, continued through graph nodes onto
+/// the straightest continuation, until it is range_m long or reaches a dead end; into a Path
+/// (its buffers are reused from segment to segment), followed only as far as it is asked: most
+/// views in a town end long before the range, and the road beyond them was followed for nothing.
+/// Going on where it stopped adds the same points as one walk to the range: the same vertices in
+/// the same order, each step's length the same hypot, each continuation chosen on the same
+/// heading. A piece's vertices are taken up to the first at or beyond the range (no position,
+/// outline or heading reads further).
+class RoadFollower {
+ public:
+  /// nodes: end_nodes.
+  RoadFollower(const RoadGraph& graph, const Incidences& incidences,
+               const std::vector<std::array<std::uint32_t, 2>>& nodes,
+               const std::vector<std::vector<double>>& cumulative,
+               const std::vector<std::array<PlanePoint, 2>>& leaving, double range_m, Path& path)
+      : graph_(graph),
+        incidences_(incidences),
+        nodes_(nodes),
+        cumulative_(cumulative),
+        leaving_(leaving),
+        range_m_(range_m),
+        path_(path) {}
+
+  /// A new road: its first point at pos_m of `piece`, walking towards its end or its start.
+  void start(std::size_t piece, double pos_m, bool towards_end) {
+    const RoadPiece& first = graph_.pieces[piece];
+    const std::vector<double>& c = cumulative_[piece];
+    const std::size_t leg = leg_at(c, pos_m);
+    path_.points.clear();
+    path_.at_m.clear();
+    path_.points.push_back(lerp(first.points[leg], first.points[leg + 1],
+                                (pos_m - c[leg]) / std::max(1e-9, c[leg + 1] - c[leg])));
+    path_.at_m.push_back(0.0);
+    enter(piece, pos_m, towards_end);
+    hops_ = 0;
+    ended_ = false;
+  }
+
+  /// Follows the road on until the path is longer than limit_m, range_m long or at its end.
+  void extend_beyond(double limit_m) {
+    while (!ended_ && path_.length_m() < range_m_ && path_.length_m() <= limit_m) {
+      if (remaining_ == 0) {
+        hop();
+        continue;
+      }
+      path_.add(graph_.pieces[arrived_.piece].points[next_vertex_]);
+      --remaining_;
+      if (arrived_.at_end) {
+        ++next_vertex_;
+      } else if (remaining_ > 0) {
+        --next_vertex_;
+      }
+    }
+  }
+  void extend_to_range() { extend_beyond(std::numeric_limits<double>::infinity()); }
+
+  const Path& path() const { return path_; }
+
+ private:
+  /// The vertices of `piece` after position pos_m in the walking direction come next.
+  void enter(std::size_t piece, double pos_m, bool towards_end) {
+    const std::size_t leg = leg_at(cumulative_[piece], pos_m);
+    arrived_ = {piece, towards_end};
+    next_vertex_ = towards_end ? leg + 1 : leg;
+    remaining_ = towards_end ? graph_.pieces[piece].points.size() - (leg + 1) : leg + 1;
+  }
+
+  /// Onto the straightest continuation at the node the path has reached; ended at a dead end.
+  /// A ring of pieces shorter than the range is walked round again; the bound stops a ring of
+  /// zero-length pieces.
+  void hop() {
+    if (hops_ >= 10000) {
+      ended_ = true;
+      return;
+    }
+    ++hops_;
+    const std::uint32_t node = nodes_[arrived_.piece][arrived_.at_end ? 1 : 0];
     const std::span<const Incidence> at_node =
-        node == kNoNode ? std::span<const Incidence>() : incidences.at_index(node);
-    const Incidence* next = continuation(leaving, at_node, arrived, last_heading(path));
-    if (!next) break;
-    const RoadPiece& p = graph.pieces[next->piece];
+        node == kNoNode ? std::span<const Incidence>() : incidences_.at_index(node);
+    const Incidence* next = continuation(leaving_, at_node, arrived_, last_heading(path_));
+    if (!next) {
+      ended_ = true;
+      return;
+    }
     // Entering at its from-node walks it towards its end, and the other way round.
     const bool forward = !next->at_end;
-    walk_piece(p, cumulative[next->piece], forward ? 0.0 : p.length_m + 1.0, forward, range_m,
-               path);
-    arrived = {next->piece, forward};
+    enter(next->piece, forward ? 0.0 : graph_.pieces[next->piece].length_m + 1.0, forward);
   }
-}
+
+  const RoadGraph& graph_;
+  const Incidences& incidences_;
+  const std::vector<std::array<std::uint32_t, 2>>& nodes_;
+  const std::vector<std::vector<double>>& cumulative_;
+  const std::vector<std::array<PlanePoint, 2>>& leaving_;
+  const double range_m_;
+  Path& path_;
+  Incidence arrived_{};          ///< the piece being walked, and whether towards its end
+  std::size_t next_vertex_ = 0;  ///< its vertex that comes next
+  std::size_t remaining_ = 0;    ///< its vertices still to come
+  std::size_t hops_ = 0;
+  bool ended_ = false;
+};
 
 /// What blocks a line of sight: the terrain and the obstacle prisms.
 class Scene {
@@ -689,13 +739,23 @@ std::size_t first_in_shadow(const std::vector<FlatBuffers::Shadow>& shadows, std
 /// share out the work: a shadow is the set of a leg's points whose lines the edge crosses, the
 /// same whichever chunk the leg is in, so the answer does not depend on them (nor on the guess)
 /// beyond the rounding of a projected point.
-double flat_worse_kerb_m(const Scene& scene, const Path& path, const std::array<Point3, 2>& eyes,
+double flat_worse_kerb_m(const Scene& scene, RoadFollower& road, const std::array<Point3, 2>& eyes,
                          const SightParameters& p, double guess_m, SightWork& work, Fan& fan,
                          std::vector<sight_detail::CandidateEdge>& candidates, FlatBuffers& b) {
   // Positions a chunk (docs/performance-log.md, issue 27: the sizes tried).
   static constexpr std::size_t kFirstChunk = 4, kMaxChunk = 8;
   constexpr double kGuessMarginM = 10.0;
-  const double end_m = std::min(p.range_m, path.length_m());
+  const Path& path = road.path();
+  // The road is followed a chunk at a time (RoadFollower), each time beyond the chunk's last
+  // position: up to there, end_m = min(range, the path's length so far) answers every use as the
+  // whole road's end would (the path is longer than what is asked unless it is at its end or at
+  // the range, where its end is the road's).
+  double end_m = 0.0;
+  const auto follow_beyond = [&](double limit_m) {
+    road.extend_beyond(limit_m);
+    end_m = std::min(p.range_m, path.length_m());
+  };
+  follow_beyond(0.0);
   const auto position_m = [&](std::size_t index) {
     return std::min(double(index) * p.step_m, end_m);
   };
@@ -726,6 +786,7 @@ double flat_worse_kerb_m(const Scene& scene, const Path& path, const std::array<
   };
   for (std::size_t chunk = big_first ? std::size_t(guessed) : kFirstChunk; seen_m < end_m;
        chunk = next_size(chunk)) {
+    follow_beyond(double(next + chunk - 1) * p.step_m);
     std::size_t n = 1;  // positions in the chunk: up to `chunk`, the last one at end_m at most
     while (n < chunk && position_m(next + n - 1) < end_m) ++n;
     const std::size_t first = next;
@@ -824,12 +885,13 @@ void sight_of_segment(const Context& c, Segment& s, SightThread& t) {
   const std::vector<double>& cum = c.cumulative[s.piece_index];
   const double pos_m =
       std::clamp(c.graph.offset_in_piece_m(s) + 0.5 * c.graph.length_m(s), 0.0, cum.back());
+  // The two directions, each followed as far as its search asks.
+  std::array<RoadFollower, 2> roads{
+      RoadFollower(c.graph, c.incidences, c.nodes, c.cumulative, c.leaving, c.p.range_m, t.ahead),
+      RoadFollower(c.graph, c.incidences, c.nodes, c.cumulative, c.leaving, c.p.range_m, t.behind)};
+  roads[0].start(s.piece_index, pos_m, true);
+  roads[1].start(s.piece_index, pos_m, false);
   const Path& ahead = t.ahead;
-  const Path& behind = t.behind;
-  follow_road(c.graph, c.incidences, c.nodes, c.cumulative, c.leaving, s.piece_index, pos_m, true,
-              c.p.range_m, t.ahead);
-  follow_road(c.graph, c.incidences, c.nodes, c.cumulative, c.leaving, s.piece_index, pos_m, false,
-              c.p.range_m, t.behind);
   const std::size_t leg = leg_at(cum, pos_m);
   const PlanePoint& a = piece.points[leg];
   const PlanePoint& b = piece.points[leg + 1];
@@ -855,8 +917,11 @@ void sight_of_segment(const Context& c, Segment& s, SightThread& t) {
     const double moved_m = pos_m - t.last_pos_m;
     guess_m = {t.last_answer_m[0] - moved_m, t.last_answer_m[1] + moved_m};
   }
-  const auto worse_m = [&](const Path& path, int direction) {
+  const auto worse_m = [&](int direction) {
+    RoadFollower& road = roads[static_cast<std::size_t>(direction)];
+    const Path& path = road.path();
     if (!c.scene.has_terrain() && t.open.worth_trying(direction)) {
+      road.extend_to_range();
       outline_to_range(path, c.p.range_m, t.outline);
       const bool open = c.scene.open_on_flat_ground(fan, eyes[0], eyes[1], t.outline);
       ++work.open_tried, work.open += open ? 1 : 0;
@@ -866,20 +931,21 @@ void sight_of_segment(const Context& c, Segment& s, SightThread& t) {
       if (open) return c.p.range_m;
     }
     if (!c.scene.has_terrain()) {
-      const double answer_m = flat_worse_kerb_m(c.scene, path, eyes, c.p, guess_m[direction], work,
+      const double answer_m = flat_worse_kerb_m(c.scene, road, eyes, c.p, guess_m[direction], work,
                                                 fan, candidates, t.flat);
       t.open.answered(direction, answer_m >= c.p.range_m);
       return answer_m;
     }
     // The kerbs take turns, each step computing its fan and candidates and using them before
     // it returns: the two share the buffers.
+    road.extend_to_range();
     KerbSearch left(c.scene, path, eyes[0], c.p, work, fan, candidates, t.kerb_outlines[0]);
     KerbSearch right(c.scene, path, eyes[1], c.p, work, fan, candidates, t.kerb_outlines[1]);
     const double answer_m = worse_kerb_m(left, right);
     t.open.answered(direction, answer_m >= c.p.range_m);
     return answer_m;
   };
-  const double forward_m = worse_m(ahead, 0), backward_m = worse_m(behind, 1);
+  const double forward_m = worse_m(0), backward_m = worse_m(1);
   t.last_index = index, t.last_pos_m = pos_m, t.last_answer_m = {forward_m, backward_m};
   s.sight_forward_m = forward_m;
   s.sight_backward_m = backward_m;
