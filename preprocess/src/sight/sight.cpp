@@ -2,6 +2,7 @@
 
 #include "roadcross/preprocess/common/parallel.hpp"
 #include "roadcross/preprocess/sight/fan.hpp"
+#include "roadcross/preprocess/sight/road.hpp"
 #include "roadcross/preprocess/sight/shadow.hpp"
 
 #include <algorithm>
@@ -59,35 +60,22 @@ void SightParameters::describe(std::vector<ParameterSpec>& out) {
 namespace {
 
 using sight_detail::crossing_parameter;
+using sight_detail::cumulative_m;
+using sight_detail::distance_m;
 using sight_detail::EdgeGrid;
+using sight_detail::end_nodes;
 using sight_detail::Fan;
+using sight_detail::leaving_directions;
+using sight_detail::leg_at;
+using sight_detail::LegLengths;
+using sight_detail::lerp;
+using sight_detail::Path;
 using sight_detail::PlanLine;
+using sight_detail::RoadFollower;
 
 struct Point3 {
   double x = 0.0, y = 0.0, z = 0.0;
   double ground_m = 0.0;  ///< the ground under the point (z minus the sensor/object height)
-};
-
-PlanePoint lerp(const PlanePoint& a, const PlanePoint& b, double t) {
-  return {a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
-}
-
-double distance_m(const PlanePoint& a, const PlanePoint& b) {
-  return std::hypot(b.x - a.x, b.y - a.y);
-}
-
-/// The road as an approaching driver follows it, from the robot's point outwards.
-struct Path {
-  std::vector<PlanePoint> points;
-  std::vector<double> at_m;  ///< distance along the path of each point
-
-  double length_m() const { return at_m.back(); }
-  void add(const PlanePoint& p) {
-    const double step = distance_m(points.back(), p);
-    if (step < 1e-9) return;  // joints and zero-length legs
-    points.push_back(p);
-    at_m.push_back(at_m.back() + step);
-  }
 };
 
 /// The point at d_m along a path, for positions asked mostly near the last one (the steps go
@@ -124,194 +112,6 @@ class PathCursor {
  private:
   const Path& path_;
   std::size_t next_ = 0;
-};
-
-/// Cumulative length at each vertex of a piece.
-std::vector<double> cumulative_m(const std::vector<PlanePoint>& points) {
-  std::vector<double> out(points.size(), 0.0);
-  for (std::size_t i = 1; i < points.size(); ++i) {
-    out[i] = out[i - 1] + distance_m(points[i - 1], points[i]);
-  }
-  return out;
-}
-
-/// Index of the leg [i, i+1] of the piece that holds position pos_m.
-std::size_t leg_at(const std::vector<double>& cumulative, double pos_m) {
-  const auto it = std::upper_bound(cumulative.begin(), cumulative.end(), pos_m);
-  const auto i = static_cast<std::size_t>(std::max<std::ptrdiff_t>(1, it - cumulative.begin()));
-  return std::min(i, cumulative.size() - 1) - 1;
-}
-
-/// The first direction (unit vector) of a piece leaving the node it is incident at.
-PlanePoint leaving_direction(const RoadPiece& piece, bool at_end) {
-  const std::size_t n = piece.points.size();
-  const PlanePoint& from = at_end ? piece.points[n - 1] : piece.points[0];
-  for (std::size_t k = 1; k < n; ++k) {
-    const PlanePoint& to = at_end ? piece.points[n - 1 - k] : piece.points[k];
-    const double len = distance_m(from, to);
-    if (len > 1e-9) return {(to.x - from.x) / len, (to.y - from.y) / len};
-  }
-  return {0.0, 0.0};
-}
-
-/// leaving_direction of every piece end, [piece][at_end], computed once (a path's every node
-/// asked it of each piece there).
-std::vector<std::array<PlanePoint, 2>> leaving_directions(const RoadGraph& graph) {
-  std::vector<std::array<PlanePoint, 2>> out;
-  out.reserve(graph.pieces.size());
-  for (const RoadPiece& piece : graph.pieces) {
-    out.push_back({leaving_direction(piece, false), leaving_direction(piece, true)});
-  }
-  return out;
-}
-
-/// The straightest continuation at `node` for a path arriving with direction `heading`
-/// (unit), other than the piece end it arrived through; nullptr at a dead end. Ties go to the
-/// lower piece index, so the choice is deterministic.
-const Incidence* continuation(const std::vector<std::array<PlanePoint, 2>>& leaving,
-                              std::span<const Incidence> at_node, const Incidence& arrived,
-                              const PlanePoint& heading) {
-  const Incidence* best = nullptr;
-  double best_cos = -2.0;
-  for (const Incidence& c : at_node) {
-    if (c.piece == arrived.piece && c.at_end == arrived.at_end) continue;
-    const PlanePoint d = leaving[c.piece][c.at_end ? 1 : 0];
-    const double cos = d.x * heading.x + d.y * heading.y;
-    if (cos > best_cos) best_cos = cos, best = &c;
-  }
-  return best;
-}
-
-PlanePoint last_heading(const Path& path) {
-  const std::size_t n = path.points.size();
-  if (n < 2) return {0.0, 0.0};
-  const double len = distance_m(path.points[n - 2], path.points[n - 1]);
-  return {(path.points[n - 1].x - path.points[n - 2].x) / len,
-          (path.points[n - 1].y - path.points[n - 2].y) / len};
-}
-
-/// Where each piece end's node is in `incidences` ([piece][at_end], Incidences::index_of;
-/// kNoNode for a node that is not a graph node), found once instead of at every hop of every
-/// path.
-constexpr std::uint32_t kNoNode = std::numeric_limits<std::uint32_t>::max();
-std::vector<std::array<std::uint32_t, 2>> end_nodes(const RoadGraph& graph,
-                                                    const Incidences& incidences) {
-  if (incidences.node_count() >= kNoNode) {
-    throw std::length_error("sight: more than 2^32 - 2 graph nodes");
-  }
-  const auto index = [&](std::int64_t node) {
-    const std::size_t i = incidences.index_of(node);
-    return i == Incidences::npos ? kNoNode : static_cast<std::uint32_t>(i);
-  };
-  std::vector<std::array<std::uint32_t, 2>> out;
-  out.reserve(graph.pieces.size());
-  for (const RoadPiece& piece : graph.pieces) {
-    out.push_back({index(piece.from_node_id), index(piece.to_node_id)});
-  }
-  return out;
-}
-
-/// The road from position pos_m of a piece in one direction, continued through graph nodes onto
-/// the straightest continuation, until it is range_m long or reaches a dead end; into a Path
-/// (its buffers are reused from segment to segment), followed only as far as it is asked: most
-/// views in a town end long before the range, and the road beyond them was followed for nothing.
-/// Going on where it stopped adds the same points as one walk to the range: the same vertices in
-/// the same order, each step's length the same hypot, each continuation chosen on the same
-/// heading. A piece's vertices are taken up to the first at or beyond the range (no position,
-/// outline or heading reads further).
-class RoadFollower {
- public:
-  /// nodes: end_nodes.
-  RoadFollower(const RoadGraph& graph, const Incidences& incidences,
-               const std::vector<std::array<std::uint32_t, 2>>& nodes,
-               const std::vector<std::vector<double>>& cumulative,
-               const std::vector<std::array<PlanePoint, 2>>& leaving, double range_m, Path& path)
-      : graph_(graph),
-        incidences_(incidences),
-        nodes_(nodes),
-        cumulative_(cumulative),
-        leaving_(leaving),
-        range_m_(range_m),
-        path_(path) {}
-
-  /// A new road: its first point at pos_m of `piece`, walking towards its end or its start.
-  void start(std::size_t piece, double pos_m, bool towards_end) {
-    const RoadPiece& first = graph_.pieces[piece];
-    const std::vector<double>& c = cumulative_[piece];
-    const std::size_t leg = leg_at(c, pos_m);
-    path_.points.clear();
-    path_.at_m.clear();
-    path_.points.push_back(lerp(first.points[leg], first.points[leg + 1],
-                                (pos_m - c[leg]) / std::max(1e-9, c[leg + 1] - c[leg])));
-    path_.at_m.push_back(0.0);
-    enter(piece, pos_m, towards_end);
-    hops_ = 0;
-    ended_ = false;
-  }
-
-  /// Follows the road on until the path is longer than limit_m, range_m long or at its end.
-  void extend_beyond(double limit_m) {
-    while (!ended_ && path_.length_m() < range_m_ && path_.length_m() <= limit_m) {
-      if (remaining_ == 0) {
-        hop();
-        continue;
-      }
-      path_.add(graph_.pieces[arrived_.piece].points[next_vertex_]);
-      --remaining_;
-      if (arrived_.at_end) {
-        ++next_vertex_;
-      } else if (remaining_ > 0) {
-        --next_vertex_;
-      }
-    }
-  }
-  void extend_to_range() { extend_beyond(std::numeric_limits<double>::infinity()); }
-
-  const Path& path() const { return path_; }
-
- private:
-  /// The vertices of `piece` after position pos_m in the walking direction come next.
-  void enter(std::size_t piece, double pos_m, bool towards_end) {
-    const std::size_t leg = leg_at(cumulative_[piece], pos_m);
-    arrived_ = {piece, towards_end};
-    next_vertex_ = towards_end ? leg + 1 : leg;
-    remaining_ = towards_end ? graph_.pieces[piece].points.size() - (leg + 1) : leg + 1;
-  }
-
-  /// Onto the straightest continuation at the node the path has reached; ended at a dead end.
-  /// A ring of pieces shorter than the range is walked round again; the bound stops a ring of
-  /// zero-length pieces.
-  void hop() {
-    if (hops_ >= 10000) {
-      ended_ = true;
-      return;
-    }
-    ++hops_;
-    const std::uint32_t node = nodes_[arrived_.piece][arrived_.at_end ? 1 : 0];
-    const std::span<const Incidence> at_node =
-        node == kNoNode ? std::span<const Incidence>() : incidences_.at_index(node);
-    const Incidence* next = continuation(leaving_, at_node, arrived_, last_heading(path_));
-    if (!next) {
-      ended_ = true;
-      return;
-    }
-    // Entering at its from-node walks it towards its end, and the other way round.
-    const bool forward = !next->at_end;
-    enter(next->piece, forward ? 0.0 : graph_.pieces[next->piece].length_m + 1.0, forward);
-  }
-
-  const RoadGraph& graph_;
-  const Incidences& incidences_;
-  const std::vector<std::array<std::uint32_t, 2>>& nodes_;
-  const std::vector<std::vector<double>>& cumulative_;
-  const std::vector<std::array<PlanePoint, 2>>& leaving_;
-  const double range_m_;
-  Path& path_;
-  Incidence arrived_{};          ///< the piece being walked, and whether towards its end
-  std::size_t next_vertex_ = 0;  ///< its vertex that comes next
-  std::size_t remaining_ = 0;    ///< its vertices still to come
-  std::size_t hops_ = 0;
-  bool ended_ = false;
 };
 
 /// What blocks a line of sight: the terrain and the obstacle prisms.
@@ -855,6 +655,7 @@ struct SightThread {
   std::vector<PlanePoint> outline;
   OpenDirections open;
   Path ahead, behind;                                    ///< the segment's two directions
+  LegLengths legs;                                       ///< of the pieces they follow
   std::array<std::vector<PlanePoint>, 2> kerb_outlines;  ///< KerbSearch's, per kerb
   FlatBuffers flat;
   /// The segment this thread did last (its index, its position in its piece) and its two
@@ -886,9 +687,10 @@ void sight_of_segment(const Context& c, Segment& s, SightThread& t) {
   const double pos_m =
       std::clamp(c.graph.offset_in_piece_m(s) + 0.5 * c.graph.length_m(s), 0.0, cum.back());
   // The two directions, each followed as far as its search asks.
-  std::array<RoadFollower, 2> roads{
-      RoadFollower(c.graph, c.incidences, c.nodes, c.cumulative, c.leaving, c.p.range_m, t.ahead),
-      RoadFollower(c.graph, c.incidences, c.nodes, c.cumulative, c.leaving, c.p.range_m, t.behind)};
+  std::array<RoadFollower, 2> roads{RoadFollower(c.graph, c.incidences, c.nodes, c.cumulative,
+                                                 c.leaving, c.p.range_m, t.ahead, t.legs),
+                                    RoadFollower(c.graph, c.incidences, c.nodes, c.cumulative,
+                                                 c.leaving, c.p.range_m, t.behind, t.legs)};
   roads[0].start(s.piece_index, pos_m, true);
   roads[1].start(s.piece_index, pos_m, false);
   const Path& ahead = t.ahead;
