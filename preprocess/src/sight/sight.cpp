@@ -2,6 +2,7 @@
 
 #include "roadcross/preprocess/common/parallel.hpp"
 #include "roadcross/preprocess/sight/fan.hpp"
+#include "roadcross/preprocess/sight/road.hpp"
 #include "roadcross/preprocess/sight/shadow.hpp"
 
 #include <algorithm>
@@ -59,35 +60,22 @@ void SightParameters::describe(std::vector<ParameterSpec>& out) {
 namespace {
 
 using sight_detail::crossing_parameter;
+using sight_detail::cumulative_m;
+using sight_detail::distance_m;
 using sight_detail::EdgeGrid;
+using sight_detail::end_nodes;
 using sight_detail::Fan;
+using sight_detail::leaving_directions;
+using sight_detail::leg_at;
+using sight_detail::LegLengths;
+using sight_detail::lerp;
+using sight_detail::Path;
 using sight_detail::PlanLine;
+using sight_detail::RoadFollower;
 
 struct Point3 {
   double x = 0.0, y = 0.0, z = 0.0;
   double ground_m = 0.0;  ///< the ground under the point (z minus the sensor/object height)
-};
-
-PlanePoint lerp(const PlanePoint& a, const PlanePoint& b, double t) {
-  return {a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
-}
-
-double distance_m(const PlanePoint& a, const PlanePoint& b) {
-  return std::hypot(b.x - a.x, b.y - a.y);
-}
-
-/// The road as an approaching driver follows it, from the robot's point outwards.
-struct Path {
-  std::vector<PlanePoint> points;
-  std::vector<double> at_m;  ///< distance along the path of each point
-
-  double length_m() const { return at_m.back(); }
-  void add(const PlanePoint& p) {
-    const double step = distance_m(points.back(), p);
-    if (step < 1e-9) return;  // joints and zero-length legs
-    points.push_back(p);
-    at_m.push_back(at_m.back() + step);
-  }
 };
 
 /// The point at d_m along a path, for positions asked mostly near the last one (the steps go
@@ -125,144 +113,6 @@ class PathCursor {
   const Path& path_;
   std::size_t next_ = 0;
 };
-
-/// Cumulative length at each vertex of a piece.
-std::vector<double> cumulative_m(const std::vector<PlanePoint>& points) {
-  std::vector<double> out(points.size(), 0.0);
-  for (std::size_t i = 1; i < points.size(); ++i) {
-    out[i] = out[i - 1] + distance_m(points[i - 1], points[i]);
-  }
-  return out;
-}
-
-/// Index of the leg [i, i+1] of the piece that holds position pos_m.
-std::size_t leg_at(const std::vector<double>& cumulative, double pos_m) {
-  const auto it = std::upper_bound(cumulative.begin(), cumulative.end(), pos_m);
-  const auto i = static_cast<std::size_t>(std::max<std::ptrdiff_t>(1, it - cumulative.begin()));
-  return std::min(i, cumulative.size() - 1) - 1;
-}
-
-/// The first direction (unit vector) of a piece leaving the node it is incident at.
-PlanePoint leaving_direction(const RoadPiece& piece, bool at_end) {
-  const std::size_t n = piece.points.size();
-  const PlanePoint& from = at_end ? piece.points[n - 1] : piece.points[0];
-  for (std::size_t k = 1; k < n; ++k) {
-    const PlanePoint& to = at_end ? piece.points[n - 1 - k] : piece.points[k];
-    const double len = distance_m(from, to);
-    if (len > 1e-9) return {(to.x - from.x) / len, (to.y - from.y) / len};
-  }
-  return {0.0, 0.0};
-}
-
-/// leaving_direction of every piece end, [piece][at_end], computed once (a path's every node
-/// asked it of each piece there).
-std::vector<std::array<PlanePoint, 2>> leaving_directions(const RoadGraph& graph) {
-  std::vector<std::array<PlanePoint, 2>> out;
-  out.reserve(graph.pieces.size());
-  for (const RoadPiece& piece : graph.pieces) {
-    out.push_back({leaving_direction(piece, false), leaving_direction(piece, true)});
-  }
-  return out;
-}
-
-/// The straightest continuation at `node` for a path arriving with direction `heading`
-/// (unit), other than the piece end it arrived through; nullptr at a dead end. Ties go to the
-/// lower piece index, so the choice is deterministic.
-const Incidence* continuation(const std::vector<std::array<PlanePoint, 2>>& leaving,
-                              std::span<const Incidence> at_node, const Incidence& arrived,
-                              const PlanePoint& heading) {
-  const Incidence* best = nullptr;
-  double best_cos = -2.0;
-  for (const Incidence& c : at_node) {
-    if (c.piece == arrived.piece && c.at_end == arrived.at_end) continue;
-    const PlanePoint d = leaving[c.piece][c.at_end ? 1 : 0];
-    const double cos = d.x * heading.x + d.y * heading.y;
-    if (cos > best_cos) best_cos = cos, best = &c;
-  }
-  return best;
-}
-
-/// Appends the vertices of `piece` after position pos_m in the walking direction, up to the
-/// first at or beyond range_m along the path (no position, outline or heading reads further).
-void walk_piece(const RoadPiece& piece, const std::vector<double>& cumulative, double pos_m,
-                bool towards_end, double range_m, Path& path) {
-  const std::size_t leg = leg_at(cumulative, pos_m);
-  if (towards_end) {
-    for (std::size_t k = leg + 1; k < piece.points.size(); ++k) {
-      path.add(piece.points[k]);
-      if (path.length_m() >= range_m) return;
-    }
-  } else {
-    for (std::size_t k = leg + 1; k-- > 0;) {
-      path.add(piece.points[k]);
-      if (path.length_m() >= range_m) return;
-    }
-  }
-}
-
-PlanePoint last_heading(const Path& path) {
-  const std::size_t n = path.points.size();
-  if (n < 2) return {0.0, 0.0};
-  const double len = distance_m(path.points[n - 2], path.points[n - 1]);
-  return {(path.points[n - 1].x - path.points[n - 2].x) / len,
-          (path.points[n - 1].y - path.points[n - 2].y) / len};
-}
-
-/// Where each piece end's node is in `incidences` ([piece][at_end], Incidences::index_of;
-/// kNoNode for a node that is not a graph node), found once instead of at every hop of every
-/// path.
-constexpr std::uint32_t kNoNode = std::numeric_limits<std::uint32_t>::max();
-std::vector<std::array<std::uint32_t, 2>> end_nodes(const RoadGraph& graph,
-                                                    const Incidences& incidences) {
-  if (incidences.node_count() >= kNoNode) {
-    throw std::length_error("sight: more than 2^32 - 2 graph nodes");
-  }
-  const auto index = [&](std::int64_t node) {
-    const std::size_t i = incidences.index_of(node);
-    return i == Incidences::npos ? kNoNode : static_cast<std::uint32_t>(i);
-  };
-  std::vector<std::array<std::uint32_t, 2>> out;
-  out.reserve(graph.pieces.size());
-  for (const RoadPiece& piece : graph.pieces) {
-    out.push_back({index(piece.from_node_id), index(piece.to_node_id)});
-  }
-  return out;
-}
-
-/// The road from position pos_m of `piece` in one direction, continued through graph nodes
-/// onto the straightest continuation, until it is `range_m` long or reaches a dead end; into
-/// `path` (its buffers are reused from segment to segment). nodes: end_nodes.
-void follow_road(const RoadGraph& graph, const Incidences& incidences,
-                 const std::vector<std::array<std::uint32_t, 2>>& nodes,
-                 const std::vector<std::vector<double>>& cumulative,
-                 const std::vector<std::array<PlanePoint, 2>>& leaving, std::size_t piece,
-                 double pos_m, bool towards_end, double range_m, Path& path) {
-  const RoadPiece& first = graph.pieces[piece];
-  const std::vector<double>& c = cumulative[piece];
-  const std::size_t leg = leg_at(c, pos_m);
-  path.points.clear();
-  path.at_m.clear();
-  path.points.push_back(lerp(first.points[leg], first.points[leg + 1],
-                             (pos_m - c[leg]) / std::max(1e-9, c[leg + 1] - c[leg])));
-  path.at_m.push_back(0.0);
-  walk_piece(first, c, pos_m, towards_end, range_m, path);
-  Incidence arrived{piece, towards_end};
-  // A ring of pieces shorter than the range is walked round again; the bound stops a ring of
-  // zero-length pieces.
-  for (std::size_t hops = 0; path.length_m() < range_m && hops < 10000; ++hops) {
-    const std::uint32_t node = nodes[arrived.piece][arrived.at_end ? 1 : 0];
-    const std::span<const Incidence> at_node =
-        node == kNoNode ? std::span<const Incidence>() : incidences.at_index(node);
-    const Incidence* next = continuation(leaving, at_node, arrived, last_heading(path));
-    if (!next) break;
-    const RoadPiece& p = graph.pieces[next->piece];
-    // Entering at its from-node walks it towards its end, and the other way round.
-    const bool forward = !next->at_end;
-    walk_piece(p, cumulative[next->piece], forward ? 0.0 : p.length_m + 1.0, forward, range_m,
-               path);
-    arrived = {next->piece, forward};
-  }
-}
 
 /// What blocks a line of sight: the terrain and the obstacle prisms.
 class Scene {
@@ -689,13 +539,23 @@ std::size_t first_in_shadow(const std::vector<FlatBuffers::Shadow>& shadows, std
 /// share out the work: a shadow is the set of a leg's points whose lines the edge crosses, the
 /// same whichever chunk the leg is in, so the answer does not depend on them (nor on the guess)
 /// beyond the rounding of a projected point.
-double flat_worse_kerb_m(const Scene& scene, const Path& path, const std::array<Point3, 2>& eyes,
+double flat_worse_kerb_m(const Scene& scene, RoadFollower& road, const std::array<Point3, 2>& eyes,
                          const SightParameters& p, double guess_m, SightWork& work, Fan& fan,
                          std::vector<sight_detail::CandidateEdge>& candidates, FlatBuffers& b) {
   // Positions a chunk (docs/performance-log.md, issue 27: the sizes tried).
   static constexpr std::size_t kFirstChunk = 4, kMaxChunk = 8;
   constexpr double kGuessMarginM = 10.0;
-  const double end_m = std::min(p.range_m, path.length_m());
+  const Path& path = road.path();
+  // The road is followed a chunk at a time (RoadFollower), each time beyond the chunk's last
+  // position: up to there, end_m = min(range, the path's length so far) answers every use as the
+  // whole road's end would (the path is longer than what is asked unless it is at its end or at
+  // the range, where its end is the road's).
+  double end_m = 0.0;
+  const auto follow_beyond = [&](double limit_m) {
+    road.extend_beyond(limit_m);
+    end_m = std::min(p.range_m, path.length_m());
+  };
+  follow_beyond(0.0);
   const auto position_m = [&](std::size_t index) {
     return std::min(double(index) * p.step_m, end_m);
   };
@@ -726,6 +586,7 @@ double flat_worse_kerb_m(const Scene& scene, const Path& path, const std::array<
   };
   for (std::size_t chunk = big_first ? std::size_t(guessed) : kFirstChunk; seen_m < end_m;
        chunk = next_size(chunk)) {
+    follow_beyond(double(next + chunk - 1) * p.step_m);
     std::size_t n = 1;  // positions in the chunk: up to `chunk`, the last one at end_m at most
     while (n < chunk && position_m(next + n - 1) < end_m) ++n;
     const std::size_t first = next;
@@ -794,6 +655,7 @@ struct SightThread {
   std::vector<PlanePoint> outline;
   OpenDirections open;
   Path ahead, behind;                                    ///< the segment's two directions
+  LegLengths legs;                                       ///< of the pieces they follow
   std::array<std::vector<PlanePoint>, 2> kerb_outlines;  ///< KerbSearch's, per kerb
   FlatBuffers flat;
   /// The segment this thread did last (its index, its position in its piece) and its two
@@ -824,12 +686,14 @@ void sight_of_segment(const Context& c, Segment& s, SightThread& t) {
   const std::vector<double>& cum = c.cumulative[s.piece_index];
   const double pos_m =
       std::clamp(c.graph.offset_in_piece_m(s) + 0.5 * c.graph.length_m(s), 0.0, cum.back());
+  // The two directions, each followed as far as its search asks.
+  std::array<RoadFollower, 2> roads{RoadFollower(c.graph, c.incidences, c.nodes, c.cumulative,
+                                                 c.leaving, c.p.range_m, t.ahead, t.legs),
+                                    RoadFollower(c.graph, c.incidences, c.nodes, c.cumulative,
+                                                 c.leaving, c.p.range_m, t.behind, t.legs)};
+  roads[0].start(s.piece_index, pos_m, true);
+  roads[1].start(s.piece_index, pos_m, false);
   const Path& ahead = t.ahead;
-  const Path& behind = t.behind;
-  follow_road(c.graph, c.incidences, c.nodes, c.cumulative, c.leaving, s.piece_index, pos_m, true,
-              c.p.range_m, t.ahead);
-  follow_road(c.graph, c.incidences, c.nodes, c.cumulative, c.leaving, s.piece_index, pos_m, false,
-              c.p.range_m, t.behind);
   const std::size_t leg = leg_at(cum, pos_m);
   const PlanePoint& a = piece.points[leg];
   const PlanePoint& b = piece.points[leg + 1];
@@ -855,8 +719,11 @@ void sight_of_segment(const Context& c, Segment& s, SightThread& t) {
     const double moved_m = pos_m - t.last_pos_m;
     guess_m = {t.last_answer_m[0] - moved_m, t.last_answer_m[1] + moved_m};
   }
-  const auto worse_m = [&](const Path& path, int direction) {
+  const auto worse_m = [&](int direction) {
+    RoadFollower& road = roads[static_cast<std::size_t>(direction)];
+    const Path& path = road.path();
     if (!c.scene.has_terrain() && t.open.worth_trying(direction)) {
+      road.extend_to_range();
       outline_to_range(path, c.p.range_m, t.outline);
       const bool open = c.scene.open_on_flat_ground(fan, eyes[0], eyes[1], t.outline);
       ++work.open_tried, work.open += open ? 1 : 0;
@@ -866,20 +733,21 @@ void sight_of_segment(const Context& c, Segment& s, SightThread& t) {
       if (open) return c.p.range_m;
     }
     if (!c.scene.has_terrain()) {
-      const double answer_m = flat_worse_kerb_m(c.scene, path, eyes, c.p, guess_m[direction], work,
+      const double answer_m = flat_worse_kerb_m(c.scene, road, eyes, c.p, guess_m[direction], work,
                                                 fan, candidates, t.flat);
       t.open.answered(direction, answer_m >= c.p.range_m);
       return answer_m;
     }
     // The kerbs take turns, each step computing its fan and candidates and using them before
     // it returns: the two share the buffers.
+    road.extend_to_range();
     KerbSearch left(c.scene, path, eyes[0], c.p, work, fan, candidates, t.kerb_outlines[0]);
     KerbSearch right(c.scene, path, eyes[1], c.p, work, fan, candidates, t.kerb_outlines[1]);
     const double answer_m = worse_kerb_m(left, right);
     t.open.answered(direction, answer_m >= c.p.range_m);
     return answer_m;
   };
-  const double forward_m = worse_m(ahead, 0), backward_m = worse_m(behind, 1);
+  const double forward_m = worse_m(0), backward_m = worse_m(1);
   t.last_index = index, t.last_pos_m = pos_m, t.last_answer_m = {forward_m, backward_m};
   s.sight_forward_m = forward_m;
   s.sight_backward_m = backward_m;

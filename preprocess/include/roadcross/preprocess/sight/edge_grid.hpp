@@ -19,10 +19,12 @@
 #include "roadcross/preprocess/common/parallel.hpp"
 #include "roadcross/preprocess/sight/obstacle_edge.hpp"
 
+#ifndef ROADCROSS_INLINE  // (shadow.hpp defines it too)
 #if defined(__GNUC__)
 #define ROADCROSS_INLINE __attribute__((always_inline))
 #else
 #define ROADCROSS_INLINE
+#endif
 #endif
 
 namespace roadcross::preprocess::sight_detail {
