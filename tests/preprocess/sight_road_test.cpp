@@ -13,6 +13,7 @@
 #include "roadcross/preprocess/graph/segments.hpp"
 #include "roadcross/preprocess/osm/road_network.hpp"
 #include "roadcross/preprocess/sight/road.hpp"
+#include "ways_graph.hpp"
 
 namespace rp = roadcross::preprocess;
 namespace sd = roadcross::preprocess::sight_detail;
@@ -26,27 +27,7 @@ constexpr double kE0 = 500000.0, kN0 = 5540000.0;
 
 /// Residential ways through UTM offsets from (kE0, kN0); equal points are one node.
 rp::RoadGraph graph_of_ways(const std::vector<std::vector<PlanePoint>>& ways) {
-  rp::RoadNetwork network;
-  std::vector<PlanePoint> nodes;
-  const auto node_id = [&](const PlanePoint& q) {
-    for (std::size_t i = 0; i < nodes.size(); ++i) {
-      if (nodes[i].x == q.x && nodes[i].y == q.y) return static_cast<std::int64_t>(i + 1);
-    }
-    nodes.push_back(q);
-    const geo::LatLon ll = geo::utm_to_wgs84(kE0 + q.x, kN0 + q.y, kZone);
-    const auto id = static_cast<std::int64_t>(nodes.size());
-    network.locations.push_back({id, ll.lat_deg, ll.lon_deg});
-    return id;
-  };
-  for (std::size_t w = 0; w < ways.size(); ++w) {
-    rp::RoadWay way;
-    way.osm_id = static_cast<std::int64_t>(w + 1);
-    way.highway = "residential";
-    way.tags = {{"highway", "residential"}};
-    for (const PlanePoint& q : ways[w]) way.node_ids.push_back(node_id(q));
-    network.ways.push_back(way);
-  }
-  return rp::build_road_graph(network, kZone, 20.0);
+  return roadcross::testing::graph_of_ways(ways, 20.0, kZone, kE0, kN0);
 }
 
 /// The road tables the sight stage builds once, and a follower over them.

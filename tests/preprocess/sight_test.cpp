@@ -18,6 +18,7 @@
 #include "roadcross/preprocess/sight/sight.hpp"
 #include "roadcross/runtime.hpp"
 #include "roadcross/schema/sqlite.hpp"
+#include "ways_graph.hpp"
 
 namespace rp = roadcross::preprocess;
 namespace geo = roadcross::geo;
@@ -30,30 +31,10 @@ const geo::UtmZone kZone{33, true};
 // On zone 33's central meridian, where grid north is true north.
 constexpr double kE0 = 500000.0, kN0 = 5540000.0;
 
-/// A graph of residential ways through points given as UTM offsets from (kE0, kN0); equal
-/// points are one node (where ways meet). Cut into segments of at most `segment_m`.
+/// The ways' graph (tests/support/ways_graph.hpp) at (kE0, kN0), cut into segments of at most
+/// `segment_m`.
 rp::RoadGraph graph_of_ways(const std::vector<std::vector<PlanePoint>>& ways, double segment_m) {
-  rp::RoadNetwork network;
-  std::vector<PlanePoint> nodes;
-  const auto node_id = [&](const PlanePoint& q) {
-    for (std::size_t i = 0; i < nodes.size(); ++i) {
-      if (nodes[i].x == q.x && nodes[i].y == q.y) return static_cast<std::int64_t>(i + 1);
-    }
-    nodes.push_back(q);
-    const geo::LatLon ll = geo::utm_to_wgs84(kE0 + q.x, kN0 + q.y, kZone);
-    const auto id = static_cast<std::int64_t>(nodes.size());
-    network.locations.push_back({id, ll.lat_deg, ll.lon_deg});
-    return id;
-  };
-  for (std::size_t w = 0; w < ways.size(); ++w) {
-    rp::RoadWay way;
-    way.osm_id = static_cast<std::int64_t>(w + 1);
-    way.highway = "residential";
-    way.tags = {{"highway", "residential"}};
-    for (const PlanePoint& q : ways[w]) way.node_ids.push_back(node_id(q));
-    network.ways.push_back(way);
-  }
-  return rp::build_road_graph(network, kZone, segment_m);
+  return roadcross::testing::graph_of_ways(ways, segment_m, kZone, kE0, kN0);
 }
 
 /// One way through `offsets`.

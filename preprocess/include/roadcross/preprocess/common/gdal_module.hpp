@@ -67,8 +67,8 @@ using GdalModuleEntry = const GdalModule* (*)(int interface, const char* version
 
 /// The module, loaded at the first call (thread-safe). Looked for at $ROADCROSS_GDAL_MODULE
 /// when that is set, otherwise beside the running executable, then where the installation puts
-/// it (LIBDIR/roadcross, found relative to BINDIR), then where the build tree put it. Throws std::runtime_error naming every place tried and why each failed; a later call
-/// tries again.
+/// it (LIBDIR/roadcross, found relative to BINDIR), then where the build tree put it. Throws
+/// std::runtime_error naming every place tried and why each failed; a later call tries again.
 const GdalModule& gdal_module();
 
 }  // namespace roadcross::preprocess

@@ -19,14 +19,6 @@
 #include "roadcross/preprocess/common/parallel.hpp"
 #include "roadcross/preprocess/sight/obstacle_edge.hpp"
 
-#ifndef ROADCROSS_INLINE  // (shadow.hpp defines it too)
-#if defined(__GNUC__)
-#define ROADCROSS_INLINE __attribute__((always_inline))
-#else
-#define ROADCROSS_INLINE
-#endif
-#endif
-
 namespace roadcross::preprocess::sight_detail {
 
 /// floor(x) as an integer, for |x| < 2^62 (cell coordinates): the same value as

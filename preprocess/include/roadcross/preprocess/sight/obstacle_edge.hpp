@@ -20,6 +20,14 @@
 
 #include "roadcross/schema/gpkg_geometry.hpp"
 
+/// Forces a small function of the sight stage's inner loops inline (GCC otherwise leaves some out
+/// of line as their callers grow; docs/performance-log.md, issue 27).
+#if defined(__GNUC__)
+#define ROADCROSS_INLINE __attribute__((always_inline))
+#else
+#define ROADCROSS_INLINE
+#endif
+
 namespace roadcross::preprocess {
 
 using schema::PlanePoint;

@@ -13,14 +13,6 @@
 
 #include "roadcross/preprocess/sight/obstacle_edge.hpp"
 
-#ifndef ROADCROSS_INLINE  // as in edge_grid.hpp
-#if defined(__GNUC__)
-#define ROADCROSS_INLINE __attribute__((always_inline))
-#else
-#define ROADCROSS_INLINE
-#endif
-#endif
-
 namespace roadcross::preprocess::sight_detail {
 
 /// The fractions [from, to] along a line of sight (0 at the eye, 1 at the vehicle) where an
