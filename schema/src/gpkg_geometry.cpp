@@ -65,6 +65,13 @@ Envelope envelope_of(std::span<const PlanePoint> points) {
 std::vector<std::uint8_t> encode_linestring(std::span<const PlanePoint> points,
                                             std::int32_t srs_id) {
   std::vector<std::uint8_t> out;
+  encode_linestring(points, srs_id, out);
+  return out;
+}
+
+void encode_linestring(std::span<const PlanePoint> points, std::int32_t srs_id,
+                       std::vector<std::uint8_t>& out) {
+  out.clear();
   out.reserve(8 + 32 + 9 + points.size() * 16);
   append_header(out, kFlagsLittleEndianXyEnvelope, srs_id);
   const Envelope e = envelope_of(points);
@@ -79,7 +86,6 @@ std::vector<std::uint8_t> encode_linestring(std::span<const PlanePoint> points,
     append(out, p.x);
     append(out, p.y);
   }
-  return out;
 }
 
 std::vector<std::uint8_t> encode_point(PlanePoint point, std::int32_t srs_id) {

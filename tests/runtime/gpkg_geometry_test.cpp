@@ -35,6 +35,22 @@ TEST(GpkgGeometry, LinestringRoundTripAndLayout) {
   }
 }
 
+TEST(GpkgGeometry, LinestringIntoABufferReplacesItsContents) {
+  // The writer encodes every row's line into one buffer: a longer line before, then a shorter
+  // one, leaves exactly the shorter one's bytes (the same as encoding it afresh), in the
+  // buffer's own storage once it is large enough.
+  const std::vector<schema::PlanePoint> longer = {{1.0, 2.0}, {3.0, 4.0}, {5.0, 7.0}, {6.0, 1.0}};
+  const std::vector<schema::PlanePoint> shorter = {{458000.5, 5547000.25}, {458010.0, 5547001.0}};
+  std::vector<std::uint8_t> buffer;
+  schema::encode_linestring(longer, 4326, buffer);
+  EXPECT_EQ(buffer, schema::encode_linestring(longer, 4326));
+  const std::uint8_t* storage = buffer.data();
+  schema::encode_linestring(shorter, 32633, buffer);
+  EXPECT_EQ(buffer, schema::encode_linestring(shorter, 32633));
+  EXPECT_EQ(buffer.size(), 8u + 32u + 1u + 4u + 4u + 32u);
+  EXPECT_EQ(buffer.data(), storage);
+}
+
 TEST(GpkgGeometry, PointRoundTrip) {
   const auto blob = schema::encode_point({1.5, -2.25}, 32633);
   EXPECT_EQ(blob.size(), 8u + 21u);  // no envelope for points

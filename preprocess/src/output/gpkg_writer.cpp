@@ -11,6 +11,9 @@
 #include <memory>
 #include <optional>
 #include <stdexcept>
+#include <string>
+#include <unordered_map>
+#include <vector>
 
 #include "roadcross/files/atomic_file.hpp"
 #include "roadcross/geo_box.hpp"
@@ -147,7 +150,8 @@ class SegmentRows final : public RowSource {
     const std::size_t index = first_ + row;
     const Segment& s = graph_.segments[index];
     if (column == 1) {
-      return out.blob(schema::encode_linestring(graph_.line(s), srs_id_));
+      schema::encode_linestring(graph_.line(s), srs_id_, line_bytes_);
+      return out.lasting_blob(line_bytes_);
     }
     using C = schema::SegmentColumn;
     switch (static_cast<C>(column - 2)) {
@@ -218,7 +222,7 @@ class SegmentRows final : public RowSource {
       case C::score:
         return result(out, s.score());
       case C::reasons: {
-        return out.text(s.reasons.joined(','));
+        return out.lasting_text(reasons_text(s.reasons));
       }
       case C::sight_forward_m:
         return result(out, s.sight_forward_m);
@@ -256,7 +260,7 @@ class SegmentRows final : public RowSource {
   /// pavement rule, is unknown).
   bool suitable_on_centreline(std::size_t index, const Segment& s) const {
     const auto score = s.score();
-    const std::string reasons = s.reasons.joined(',');
+    const std::string& reasons = reasons_text(s.reasons);
     const schema::Verdict verdict = schema::judge_segment(
         {score ? std::optional<int>(*score) : std::nullopt,
          s.context_score ? std::optional<int>(*s.context_score) : std::nullopt, reasons, s.tunnel,
@@ -266,6 +270,14 @@ class SegmentRows final : public RowSource {
     const bool kerb_too_high =
         kerb && kerb->kerb_height_m && *kerb->kerb_height_m > rule_.max_kerb_height_m + 1e-9;
     return verdict.suitable && !kerb_too_high;
+  }
+
+  /// `reasons` joined with commas, as stored: each set joined once (a map has a few dozen) and
+  /// kept while this source lives, so a row's text needs neither a join nor a copy.
+  const std::string& reasons_text(const ReasonSet& reasons) const {
+    const auto [it, added] = reasons_texts_.try_emplace(reasons.bits());
+    if (added) it->second = reasons.joined(',');
+    return it->second;
   }
 
   /// The segment's kerb facts (graph.kerbs holds the few segments that have any), or null.
@@ -281,6 +293,10 @@ class SegmentRows final : public RowSource {
   FedRowDigests<kColumns>* fed_digests_;
   /// digest_row's row, its buffers reused.
   mutable DigestedRow<kColumns> digested_;
+  /// The current row's geometry, encoded into the same buffer row after row (lasting_blob: it
+  /// stays until the next row is filled, after SQLite has stored this one).
+  mutable std::vector<std::uint8_t> line_bytes_;
+  mutable std::unordered_map<std::uint16_t, std::string> reasons_texts_;  ///< reasons_text's
 };
 
 /// The segments table's digests computed from its rows as SegmentRows gives them to SQLite, in

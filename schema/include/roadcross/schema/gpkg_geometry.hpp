@@ -24,6 +24,10 @@ Envelope envelope_of(std::span<const PlanePoint> points);
 /// Encodes a LINESTRING with an XY envelope. `points` must hold at least two points.
 std::vector<std::uint8_t> encode_linestring(std::span<const PlanePoint> points,
                                             std::int32_t srs_id);
+/// The same into `out` (its contents replaced, its capacity kept: no allocation once it is
+/// large enough).
+void encode_linestring(std::span<const PlanePoint> points, std::int32_t srs_id,
+                       std::vector<std::uint8_t>& out);
 
 /// Encodes a POINT (no envelope, as the spec recommends for points).
 std::vector<std::uint8_t> encode_point(PlanePoint point, std::int32_t srs_id);

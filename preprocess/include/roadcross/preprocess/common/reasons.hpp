@@ -28,6 +28,8 @@ class ReasonSet {
   /// The codes joined with `separator`, in schema::kReasons order ("" when empty).
   std::string joined(char separator) const;
   bool operator==(const ReasonSet&) const = default;
+  /// The set as its bits (bit i: schema::kReasons[i]), e.g. as a key for joined texts.
+  std::uint16_t bits() const noexcept { return bits_; }
 
  private:
   // 2 bytes (a Segment holds one): bit i for schema::kReasons[i].

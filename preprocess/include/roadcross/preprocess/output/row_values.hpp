@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -33,6 +34,13 @@ struct SqliteValue {
   }
   void text(std::string_view text) {
     sqlite3_result_text(out, text.data(), static_cast<int>(text.size()), SQLITE_TRANSIENT);
+  }
+  /// A blob that stays unchanged until the next row is asked for: copied all the same (SQLite
+  /// may hold a value longer than this source can promise).
+  void lasting_blob(std::span<const std::uint8_t> bytes) {
+    static constexpr std::uint8_t kNoBytes = 0;
+    sqlite3_result_blob(out, bytes.empty() ? &kNoBytes : bytes.data(),
+                        static_cast<int>(bytes.size()), SQLITE_TRANSIENT);
   }
   void blob(const std::vector<std::uint8_t>& bytes) {
     // An empty vector's data() may be null, which SQLite would store as NULL, not as the empty
@@ -57,6 +65,10 @@ class DigestedRow {
     std::string& kept = texts_.at(next_);
     kept.assign(text);
     add(mapcheck::RowValue::of_text(kept));
+  }
+  /// A blob that stays unchanged until the next row is filled (viewed, not kept).
+  void lasting_blob(std::span<const std::uint8_t> bytes) {
+    add(mapcheck::RowValue::of_blob({reinterpret_cast<const char*>(bytes.data()), bytes.size()}));
   }
   void blob(std::vector<std::uint8_t> bytes) {
     std::vector<std::uint8_t>& kept = blobs_.at(next_);
