@@ -11,6 +11,9 @@
 # cost alone (the sight stage dominates both builds and is timed by the default build).
 # BENCH_REPEAT=N (default 1): each size's runs N times, osmium and the builds alternating; the
 # table has each time's median and each peak's maximum, and a comment line lists every time.
+# build_per_osmium: the median over the rounds of each round's default build time over that
+# round's osmium time (the two run one after the other): on a machine whose speed drifts between
+# rounds it moves less than the ratio of the two medians.
 # BENCH_BUILD_ARGS: extra arguments for every roadcross-build run. BENCH_NO_DOCS=1: print the
 # table, leave docs/ alone. Another map: BENCH_MAP (an OSM file, default the Monaco extract),
 # BENCH_DEM_IN (its elevation files, space-separated; several are mosaicked with gdalbuildvrt)
@@ -53,7 +56,7 @@ print("#   " + sys.argv[2] + ": " + "; ".join("%s %.2f s %.0f MiB" % (s["stage"]
 }
 
 echo "# $(machine_line)"
-echo "copies,pbf_bytes,osmium_s,osmium_kib,build_s,build_kib,build_dem_s,build_dem_kib,segments,no_sight_s,no_sight_kib" | tee "$work/scale.csv"
+echo "copies,pbf_bytes,osmium_s,osmium_kib,build_s,build_kib,build_dem_s,build_dem_kib,segments,no_sight_s,no_sight_kib,build_per_osmium" | tee "$work/scale.csv"
 repeats=${BENCH_REPEAT:-1}
 # max VALUE...: the largest.
 max() { printf '%s\n' "$@" | sort -g | tail -n 1; }
@@ -61,6 +64,7 @@ for n in $sizes; do
   "$make_tiled" "$map" "$n" "$work/m$n.osm.pbf" "$dem_in" "$work/m$n.tif" >/dev/null
   echo "# $n copies, load average before: $(cut -d' ' -f1-3 /proc/loadavg)" >&2
   osmium_runs=() osmium_peaks=() build_runs=() build_peaks=() no_sight_runs=() no_sight_peaks=()
+  ratio_runs=()
   dem_runs=() dem_peaks=()
   for ((run = 1; run <= repeats; run++)); do
     read -r s kib < <(measure osmium tags-filter "$work/m$n.osm.pbf" w/highway -o "$work/f.osm.pbf" --overwrite)
@@ -68,6 +72,7 @@ for n in $sizes; do
     # shellcheck disable=SC2086
     read -r s kib < <(measure "$tool" --osm "$work/m$n.osm.pbf" -o "$work/m$n.gpkg" --json ${BENCH_BUILD_ARGS:-})
     build_runs+=("$s") build_peaks+=("$kib")
+    ratio_runs+=("$(awk -v b="$s" -v o="${osmium_runs[-1]}" 'BEGIN { printf "%.3f", b / o }')")
     stages "build"
     segments=$(sqlite3 "$work/m$n.gpkg" "SELECT count(*) FROM segments")
     rm -f "$work/m$n.gpkg"  # each output goes as soon as it is measured (see measure)
@@ -88,9 +93,9 @@ for n in $sizes; do
   if ((with_dem)); then dem_s=$(median "${dem_runs[@]}") dem_kib=$(max "${dem_peaks[@]}"); fi
   echo "# load average after: $(cut -d' ' -f1-3 /proc/loadavg)" >&2
   if ((repeats > 1)); then
-    echo "# $n copies, every run's seconds: osmium ${osmium_runs[*]}; build ${build_runs[*]}; no sight ${no_sight_runs[*]}${dem_runs:+; dem ${dem_runs[*]}}" >&2
+    echo "# $n copies, every run's seconds: osmium ${osmium_runs[*]}; build ${build_runs[*]}; no sight ${no_sight_runs[*]}${dem_runs:+; dem ${dem_runs[*]}}; build / osmium by round ${ratio_runs[*]}" >&2
   fi
-  echo "$n,$(stat -c %s "$work/m$n.osm.pbf"),$(median "${osmium_runs[@]}"),$(max "${osmium_peaks[@]}"),$(median "${build_runs[@]}"),$(max "${build_peaks[@]}"),$dem_s,$dem_kib,$segments,$(median "${no_sight_runs[@]}"),$(max "${no_sight_peaks[@]}")" | tee -a "$work/scale.csv"
+  echo "$n,$(stat -c %s "$work/m$n.osm.pbf"),$(median "${osmium_runs[@]}"),$(max "${osmium_peaks[@]}"),$(median "${build_runs[@]}"),$(max "${build_peaks[@]}"),$dem_s,$dem_kib,$segments,$(median "${no_sight_runs[@]}"),$(max "${no_sight_peaks[@]}"),$(median "${ratio_runs[@]}")" | tee -a "$work/scale.csv"
   rm -f "$work/m$n.gpkg" "$work/m${n}dem.gpkg" "$work/m${n}ns.gpkg"
 done
 [[ -n ${BENCH_NO_DOCS:-} ]] && { cat "$work/scale.csv"; exit 0; }  # a comparison run: keep docs/
