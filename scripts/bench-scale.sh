@@ -72,7 +72,7 @@ for n in $sizes; do
     # shellcheck disable=SC2086
     read -r s kib < <(measure "$tool" --osm "$work/m$n.osm.pbf" -o "$work/m$n.gpkg" --json ${BENCH_BUILD_ARGS:-})
     build_runs+=("$s") build_peaks+=("$kib")
-    ratio_runs+=("$(awk -v b="$s" -v o="${osmium_runs[-1]}" 'BEGIN { printf "%.3f", b / o }')")
+    ratio_runs+=("$(awk -v b="$s" -v o="${osmium_runs[-1]}" 'BEGIN { if (o > 0) printf "%.3f", b / o; else print "inf" }')")
     stages "build"
     segments=$(sqlite3 "$work/m$n.gpkg" "SELECT count(*) FROM segments")
     rm -f "$work/m$n.gpkg"  # each output goes as soon as it is measured (see measure)
