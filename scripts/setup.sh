@@ -7,6 +7,7 @@ packages=(
   build-essential cmake pkg-config ccache
   # preprocess (roadcross-build)
   libosmium2-dev libprotozero-dev libbz2-dev libexpat1-dev zlib1g-dev liblz4-dev
+  libdeflate-dev  # .pbf blobs inflated about twice as fast as by zlib (src/osm/pbf_inflate.cpp)
   libgdal-dev libcgal-dev libeigen3-dev libboost-dev
   libssl-dev  # OpenSSL libcrypto: SHA-256 of the input files
   # runtime
