@@ -11,6 +11,7 @@
 
 #include "roadcross/preprocess/common/errors.hpp"
 #include "roadcross/preprocess/common/progress.hpp"
+#include "roadcross/preprocess/common/sorted_id_cursor.hpp"
 #include "roadcross/preprocess/osm/osm_pass.hpp"
 
 namespace roadcross::preprocess {
@@ -139,14 +140,14 @@ class NodeLocationCollector : public osmium::handler::Handler {
       : network_(network), wanted_(wanted_sorted), crossing_only_(crossing_only_sorted) {
     // At most one location per wanted node (a file with a node twice grows it): grown by
     // doubling, the table would hold up to twice that until the network is freed.
-    network_.locations.reserve(wanted_.size());
+    network_.locations.reserve(wanted_sorted.size());
   }
 
   void node(const osmium::Node& node) {
     ++network_.nodes_read;
     network_.newest_timestamp_s =
         std::max<std::int64_t>(network_.newest_timestamp_s, node.timestamp().seconds_since_epoch());
-    if (!std::binary_search(wanted_.begin(), wanted_.end(), node.id())) {
+    if (!wanted_.contains(node.id())) {
       keep_crossing_way_node(node);
       return;
     }
@@ -160,7 +161,7 @@ class NodeLocationCollector : public osmium::handler::Handler {
 
  private:
   void keep_crossing_way_node(const osmium::Node& node) {
-    if (!std::binary_search(crossing_only_.begin(), crossing_only_.end(), node.id())) return;
+    if (!crossing_only_.contains(node.id())) return;
     if (!node.location().valid()) return;
     network_.crossing_way_locations.push_back(
         {node.id(), node.location().lat(), node.location().lon()});
@@ -170,8 +171,8 @@ class NodeLocationCollector : public osmium::handler::Handler {
   }
 
   RoadNetwork& network_;
-  const std::vector<std::int64_t>& wanted_;
-  const std::vector<std::int64_t>& crossing_only_;
+  SortedIdCursor wanted_;
+  SortedIdCursor crossing_only_;
 };
 
 /// Hands the objects of the passes to an ExtraOsmReader; in the node pass, only once
