@@ -1,5 +1,6 @@
-// SortedIdCursor against std::binary_search: the same answers for ids asked in ascending order
-// (a sorted file), in descending order, at random, repeated, and for lists with duplicates.
+// lower_bound_near against std::lower_bound from every hint, and SortedIdCursor against
+// std::binary_search: the same answers for ids asked in ascending order (a sorted file), in
+// descending order, at random, repeated, and for lists with duplicates.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -20,6 +21,26 @@ void expect_binary_search_answers(const std::vector<std::int64_t>& sorted,
     ASSERT_EQ(cursor.contains(questions[i]),
               std::binary_search(sorted.begin(), sorted.end(), questions[i]))
         << "question " << i << ": id " << questions[i];
+  }
+}
+
+TEST(LowerBoundNear, SameAnswerAsLowerBoundFromEveryHint) {
+  std::mt19937_64 random(4);
+  for (const std::size_t size : {std::size_t{0}, std::size_t{1}, std::size_t{2}, std::size_t{3},
+                                 std::size_t{8}, std::size_t{33}, std::size_t{300}}) {
+    std::vector<std::int64_t> sorted(size);
+    for (std::int64_t& id : sorted) id = static_cast<std::int64_t>(random() % 200) - 50;
+    std::sort(sorted.begin(), sorted.end());
+    for (std::int64_t id = -60; id <= 160; ++id) {
+      const auto expected = std::lower_bound(sorted.begin(), sorted.end(), id);
+      for (auto hint = sorted.begin();; ++hint) {
+        ASSERT_EQ(rp::lower_bound_near(sorted.begin(), sorted.end(), hint, id,
+                                       [](std::int64_t x) { return x; }),
+                  expected)
+            << "size " << size << ", id " << id << ", hint " << (hint - sorted.begin());
+        if (hint == sorted.end()) break;
+      }
+    }
   }
 }
 
