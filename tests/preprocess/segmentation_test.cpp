@@ -380,4 +380,39 @@ TEST(Segmentation, FileWithoutRoadsIsAnError) {
   }
 }
 
+// The ways pass sorts each way by its highway, footway, cycleway and area tags (read in one walk
+// over its tags): kept roads, crossing ways (footway or cycleway=crossing, not areas) and
+// pavements mapped on their own (highway=footway/path/cycleway with footway=sidewalk, not
+// areas); the rest is dropped. Expected ids by hand from the tags below.
+TEST(ReadRoadNetwork, WaysSortedByTheirHighwayFootwayCyclewayAndAreaTags) {
+  std::string body;
+  for (long n = 1; n <= 4; ++n) body += rt::osm_node(n, 50.0, 14.4 + 0.0005 * double(n));
+  body += rt::osm_way(10, "1 2", "highway=residential;name=Road");
+  body += rt::osm_way(11, "2 3", "area=yes;highway=residential");                // an area: dropped
+  body += rt::osm_way(12, "1 2", "highway=footway;footway=sidewalk");            // pavement
+  body += rt::osm_way(13, "2 3", "footway=sidewalk;highway=path");               // pavement
+  body += rt::osm_way(14, "3 4", "highway=cycleway;footway=sidewalk;area=yes");  // an area
+  body += rt::osm_way(15, "3 4", "highway=steps;footway=sidewalk");              // not walkable way
+  body += rt::osm_way(16, "2 3", "highway=footway;footway=crossing");            // crossing
+  body += rt::osm_way(17, "3 4", "cycleway=crossing;highway=cycleway");          // crossing
+  body += rt::osm_way(18, "1 3", "footway=crossing;area=yes");                   // an area
+  body += rt::osm_way(19, "1 4", "building=yes;amenity=cafe");                   // neither
+  body += rt::osm_way(20, "3 4", "highway=service;area=no");                     // road
+  rt::TempDir dir;
+  const std::string path = dir.write("ways.osm", rt::osm_document(body));
+  rp::Progress quiet(false);
+  const rp::RoadNetwork network = rp::read_road_network(path, quiet);
+  const auto ids = [](const auto& ways) {
+    std::vector<std::int64_t> out;
+    for (const auto& way : ways) out.push_back(way.osm_id);
+    return out;
+  };
+  EXPECT_EQ(network.ways_read, 11u);
+  EXPECT_EQ(ids(network.ways), (std::vector<std::int64_t>{10, 20}));
+  EXPECT_EQ(ids(network.sidewalk_ways), (std::vector<std::int64_t>{12, 13}));
+  EXPECT_EQ(ids(network.crossing_ways), (std::vector<std::int64_t>{16, 17}));
+  EXPECT_EQ(network.ways[0].highway, "residential");
+  EXPECT_EQ(network.ways[1].highway, "service");
+}
+
 }  // namespace

@@ -31,14 +31,55 @@ bool is_kept_road_class(std::string_view highway) noexcept {
   return std::find(kKept.begin(), kKept.end(), highway) != kKept.end();
 }
 
+namespace {
+
+/// The values of the keys the ways pass asks every way about (null when absent; of a repeated
+/// key the first, as osmium::TagList::operator[] gives it), found in one walk over its tags
+/// instead of one walk per key: most ways are not roads and are asked about all four.
+struct WayKeys {
+  const char* highway = nullptr;
+  const char* footway = nullptr;
+  const char* cycleway = nullptr;
+  const char* area = nullptr;
+
+  explicit WayKeys(const osmium::TagList& tags) {
+    for (const osmium::Tag& tag : tags) {
+      const char* key = tag.key();
+      const char** value = nullptr;
+      switch (key[0]) {
+        case 'h':
+          value = std::strcmp(key, "highway") == 0 ? &highway : nullptr;
+          break;
+        case 'f':
+          value = std::strcmp(key, "footway") == 0 ? &footway : nullptr;
+          break;
+        case 'c':
+          value = std::strcmp(key, "cycleway") == 0 ? &cycleway : nullptr;
+          break;
+        case 'a':
+          value = std::strcmp(key, "area") == 0 ? &area : nullptr;
+          break;
+        default:
+          break;
+      }
+      if (value && !*value) *value = tag.value();
+    }
+  }
+
+  bool is_area() const { return area && std::strcmp(area, "yes") == 0; }
+};
+
+bool is_sidewalk_way(const WayKeys& keys) noexcept {
+  return keys.highway && keys.footway && std::strcmp(keys.footway, "sidewalk") == 0 &&
+         (std::strcmp(keys.highway, "footway") == 0 || std::strcmp(keys.highway, "path") == 0 ||
+          std::strcmp(keys.highway, "cycleway") == 0) &&
+         !keys.is_area();
+}
+
+}  // namespace
+
 bool is_sidewalk_way(const osmium::TagList& tags) noexcept {
-  const char* highway = tags["highway"];
-  const char* footway = tags["footway"];
-  const char* area = tags["area"];
-  return highway && footway && std::strcmp(footway, "sidewalk") == 0 &&
-         (std::strcmp(highway, "footway") == 0 || std::strcmp(highway, "path") == 0 ||
-          std::strcmp(highway, "cycleway") == 0) &&
-         !(area && std::strcmp(area, "yes") == 0);
+  return is_sidewalk_way(WayKeys(tags));
 }
 
 bool is_crossing_way(const Tags& tags) noexcept {
@@ -61,11 +102,6 @@ Tags copy_tags(const osmium::TagList& tags) {
   return out;
 }
 
-bool is_area(const osmium::TagList& tags) {
-  const char* area = tags["area"];
-  return area && std::strcmp(area, "yes") == 0;
-}
-
 /// Keys that make a node on a road or a crossing way interesting to later stages (crossings,
 /// signals, kerbs, refuge islands, ...).
 bool has_interesting_tag(const osmium::TagList& tags) {
@@ -85,10 +121,11 @@ class RoadWayCollector : public osmium::handler::Handler {
   void way(const osmium::Way& way) {
     ++network_.ways_read;
     note_timestamp(way);
-    const char* highway = way.tags()["highway"];
-    if (!highway || !is_kept_road_class(highway) || is_area(way.tags())) {
-      keep_crossing_way(way);
-      keep_sidewalk_way(way);
+    const WayKeys keys(way.tags());
+    const char* highway = keys.highway;
+    if (!highway || !is_kept_road_class(highway) || keys.is_area()) {
+      keep_crossing_way(way, keys);
+      keep_sidewalk_way(way, keys);
       return;
     }
     RoadWay road;
@@ -101,12 +138,10 @@ class RoadWayCollector : public osmium::handler::Handler {
   }
 
   /// footway=crossing / cycleway=crossing ways: ids and tags only, they are few.
-  void keep_crossing_way(const osmium::Way& way) {
-    const char* footway = way.tags()["footway"];
-    const char* cycleway = way.tags()["cycleway"];
-    const bool crossing = (footway && std::strcmp(footway, "crossing") == 0) ||
-                          (cycleway && std::strcmp(cycleway, "crossing") == 0);
-    if (!crossing || is_area(way.tags())) return;
+  void keep_crossing_way(const osmium::Way& way, const WayKeys& keys) {
+    const bool crossing = (keys.footway && std::strcmp(keys.footway, "crossing") == 0) ||
+                          (keys.cycleway && std::strcmp(keys.cycleway, "crossing") == 0);
+    if (!crossing || keys.is_area()) return;
     CrossingWay kept;
     kept.osm_id = way.id();
     kept.tags = copy_tags(way.tags());
@@ -116,8 +151,8 @@ class RoadWayCollector : public osmium::handler::Handler {
 
   /// footway=sidewalk ways (a pavement mapped on its own): node ids only, for the proximity
   /// rule that gives a road's untagged side its pavement.
-  void keep_sidewalk_way(const osmium::Way& way) {
-    if (!is_sidewalk_way(way.tags()) || way.nodes().size() < 2) return;
+  void keep_sidewalk_way(const osmium::Way& way, const WayKeys& keys) {
+    if (!is_sidewalk_way(keys) || way.nodes().size() < 2) return;
     SidewalkWay kept;
     kept.osm_id = way.id();
     for (const osmium::NodeRef& ref : way.nodes()) kept.node_ids.push_back(ref.ref());
