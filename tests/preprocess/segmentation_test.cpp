@@ -4,7 +4,11 @@
 // so that way is hypot(93.166318, -0.746598) = 93.1693 m long in the DB's UTM zone 33N.
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <chrono>
 #include <cmath>
+#include <osmium/osm/location.hpp>
+#include <thread>
 #include <vector>
 
 #include "osm_fixture.hpp"
@@ -413,6 +417,44 @@ TEST(ReadRoadNetwork, WaysSortedByTheirHighwayFootwayCyclewayAndAreaTags) {
   EXPECT_EQ(ids(network.crossing_ways), (std::vector<std::int64_t>{16, 17}));
   EXPECT_EQ(network.ways[0].highway, "residential");
   EXPECT_EQ(network.ways[1].highway, "service");
+}
+
+/// An extra reader whose ways_done() takes a while: the node pass must hand it every node, in
+/// file order, and none before ways_done() has returned (the nodes read meanwhile wait).
+class SlowExtraReader final : public rp::ExtraOsmReader {
+ public:
+  void way(const osmium::Way&) override { ++ways; }
+  void ways_done() override {
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    done.store(true);
+  }
+  void node(std::int64_t id, osmium::Location location) override {
+    if (!done.load()) ++before_ways_done;
+    ids.push_back(id);
+    if (location.valid()) lons.push_back(location.lon());
+  }
+  int ways = 0, before_ways_done = 0;
+  std::atomic<bool> done{false};
+  std::vector<std::int64_t> ids;
+  std::vector<double> lons;
+};
+
+TEST(ReadRoadNetwork, NodesReadWhileWaysDoneRunsWaitAndComeInOrder) {
+  std::string body;
+  for (long n = 1; n <= 3000; ++n) body += rt::osm_node(n, 50.0, 14.4 + 1e-5 * double(n));
+  body += rt::osm_way(10, "1 2 3", "highway=residential");
+  rt::TempDir dir;
+  const std::string path = dir.write("nodes.osm", rt::osm_document(body));
+  rp::Progress quiet(false);
+  SlowExtraReader extra;
+  const rp::RoadNetwork network = rp::read_road_network(path, quiet, &extra);
+  EXPECT_EQ(extra.ways, 1);
+  EXPECT_EQ(extra.before_ways_done, 0);
+  ASSERT_EQ(extra.ids.size(), 3000u);
+  for (std::size_t i = 0; i < extra.ids.size(); ++i) ASSERT_EQ(extra.ids[i], std::int64_t(i) + 1);
+  ASSERT_EQ(extra.lons.size(), 3000u);
+  EXPECT_NEAR(extra.lons[2999], 14.43, 1e-7);
+  EXPECT_EQ(network.locations.size(), 3u);  // the road's own nodes, as without the extra reader
 }
 
 }  // namespace

@@ -182,20 +182,20 @@ void ObstacleReader::nodes_done() {
   buckets_ = IdBuckets();
 }
 
-void ObstacleReader::node(const osmium::Node& node) {
-  const auto [first_item, end_item] = buckets_.range_of(node.id());
+void ObstacleReader::node(std::int64_t id, osmium::Location location) {
+  const auto [first_item, end_item] = buckets_.range_of(id);
   if (first_item == end_item) return;
   const auto end = node_slots_.begin() + static_cast<std::ptrdiff_t>(end_item);
   auto it =
-      std::lower_bound(node_slots_.begin() + static_cast<std::ptrdiff_t>(first_item), end,
-                       node.id(), [](const NodeSlot& x, std::int64_t id) { return x.id() < id; });
-  if (it == end || it->id() != node.id()) return;
-  const osmium::Location l = node.location();
+      std::lower_bound(node_slots_.begin() + static_cast<std::ptrdiff_t>(first_item), end, id,
+                       [](const NodeSlot& x, std::int64_t wanted) { return x.id() < wanted; });
+  if (it == end || it->id() != id) return;
+  const osmium::Location l = location;
   if (!l.valid()) return;
   // The first reference holds the location, the others point to it (projected once).
   const std::uint32_t first = it->slot;
   slots_[first] = {l.x(), l.y()};
-  for (++it; it != end && it->id() == node.id(); ++it) {
+  for (++it; it != end && it->id() == id; ++it) {
     slots_[it->slot] = {kReference, std::bit_cast<std::int32_t>(first)};
   }
 }

@@ -9,6 +9,7 @@
 #include <vector>
 
 namespace osmium {
+class Location;
 class Node;
 class TagList;
 class Relation;
@@ -104,10 +105,10 @@ class ExtraOsmReader {
   virtual bool wants_relations() const { return false; }
   /// Between the passes: e.g. sort the node ids the second pass must find. Runs on a thread of
   /// its own, beside the road network's work between the passes and the node pass's start;
-  /// node() is first called after it has returned.
+  /// node() is first called after it has returned (the nodes read meanwhile wait, in order).
   virtual void ways_done() {}
-  /// Second pass: every node of the file.
-  virtual void node(const osmium::Node& node) = 0;
+  /// Second pass: every node of the file, in file order, by its id and location.
+  virtual void node(std::int64_t id, osmium::Location location) = 0;
   /// After the second pass: e.g. free what only the node lookup needed.
   virtual void nodes_done() {}
 };

@@ -91,7 +91,7 @@ class ObstacleReader final : public ExtraOsmReader {
   void relation(const osmium::Relation& relation) override;
   bool wants_relations() const override { return true; }
   void ways_done() override;
-  void node(const osmium::Node& node) override;
+  void node(std::int64_t id, osmium::Location location) override;
   void nodes_done() override;
 
   /// The edges that come within `reach_m` of the box [min, max] (UTM, zone `zone`); nodes more
