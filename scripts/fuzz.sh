@@ -13,7 +13,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
 seconds=${ROADCROSS_FUZZ_SECONDS:-20}
-all_targets=(xyz osm_tags parameter_file overrides gpkg_geometry gap_line batch_line map)
+all_targets=(xyz osm_tags parameter_file overrides pbf_inflate gpkg_geometry gap_line batch_line map)
 targets=("${@:-${all_targets[@]}}")
 [ $# -eq 0 ] && targets=("${all_targets[@]}")
 
@@ -34,14 +34,14 @@ ASAN_OPTIONS=detect_leaks=0 "$root/build/fuzz/cli/roadcross-build" -q \
 
 # Seeds made from the bundled maps, beside the committed ones.
 seeds=$work/seeds
-mkdir -p "$seeds"/{xyz,osm_tags,parameter_file,gpkg_geometry,batch_line}
+mkdir -p "$seeds"/{xyz,osm_tags,parameter_file,pbf_inflate,gpkg_geometry,batch_line}
 head -c 4000 maps/zabaged/BILO48_5g_40k.csv >"$seeds/xyz/bilo48.csv"
 head -c 4000 maps/zabaged/test_pointcloud.txt >"$seeds/xyz/pointcloud.txt"
 ASAN_OPTIONS=detect_leaks=0 "$root/build/fuzz/cli/roadcross-build" --print-config \
   >"$seeds/parameter_file/printed.toml"
 python3 - "$seeds" "$ROADCROSS_FUZZ_MAP" maps/prague/prague_nove_mesto_roads_2017.osm \
   maps/techobuz/techobuz_2018.osm <<'PY'
-import json, re, sqlite3, sys
+import json, re, sqlite3, sys, zlib
 seeds, gpkg, *osm = sys.argv[1:]
 # Tag values as the parsers meet them (maxspeed, lanes, width and their variants), NUL-joined.
 values = set()
@@ -58,6 +58,15 @@ for i, (blob,) in enumerate(db.execute("SELECT geom FROM crossings LIMIT 10")):
     open(f"{seeds}/gpkg_geometry/crossing{i}.bin", "wb").write(blob)
 min_x, min_y, max_x, max_y = db.execute(
     "SELECT min_x, min_y, max_x, max_y FROM gpkg_contents WHERE table_name = 'segments'").fetchone()
+# zlib streams as a .pbf holds them (a 2-byte room, then the stream): strings and varints of
+# OSM data, whole and with the room one short.
+raw = open(osm[0], "rb").read(20000)
+for level in (1, 6, 9):
+    for cut in (4000, 20000):
+        stream = zlib.compress(raw[:cut], level)
+        for room in (cut, cut - 1):
+            open(f"{seeds}/pbf_inflate/l{level}_{cut}_{room}.bin", "wb").write(
+                room.to_bytes(2, "little") + stream)
 for i, op in enumerate(["assess", "better", "heading", "nearest"]):
     e, n = min_x + (max_x - min_x) * (i + 1) / 5, min_y + (max_y - min_y) * (i + 1) / 5
     open(f"{seeds}/batch_line/{op}.json", "w").write(
