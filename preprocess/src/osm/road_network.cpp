@@ -9,6 +9,7 @@
 #include <cstring>
 #include <future>
 #include <osmium/handler.hpp>
+#include <utility>
 
 #include "roadcross/preprocess/common/errors.hpp"
 #include "roadcross/preprocess/common/progress.hpp"
@@ -44,26 +45,17 @@ struct WayKeys {
   const char* area = nullptr;
 
   explicit WayKeys(const osmium::TagList& tags) {
+    const std::array<std::pair<const char*, const char**>, 4> wanted{
+        {{"highway", &highway}, {"footway", &footway}, {"cycleway", &cycleway}, {"area", &area}}};
     for (const osmium::Tag& tag : tags) {
       const char* key = tag.key();
-      const char** value = nullptr;
-      switch (key[0]) {
-        case 'h':
-          value = std::strcmp(key, "highway") == 0 ? &highway : nullptr;
+      for (const auto& [name, value] : wanted) {
+        // The first letter first: most of a way's keys are none of the four.
+        if (key[0] == name[0] && std::strcmp(key, name) == 0) {
+          if (!*value) *value = tag.value();
           break;
-        case 'f':
-          value = std::strcmp(key, "footway") == 0 ? &footway : nullptr;
-          break;
-        case 'c':
-          value = std::strcmp(key, "cycleway") == 0 ? &cycleway : nullptr;
-          break;
-        case 'a':
-          value = std::strcmp(key, "area") == 0 ? &area : nullptr;
-          break;
-        default:
-          break;
+        }
       }
-      if (value && !*value) *value = tag.value();
     }
   }
 
