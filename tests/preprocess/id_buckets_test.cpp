@@ -1,4 +1,5 @@
 #include "roadcross/preprocess/common/id_buckets.hpp"
+#include "roadcross/preprocess/sight/obstacle_edge.hpp"
 
 #include <gtest/gtest.h>
 
@@ -20,8 +21,9 @@ struct Item {
 
 /// Sorts `ids` with sort_into_id_buckets and checks the table against std::sort of (id, index)
 /// pairs, and every bucket against its definition.
+template <typename Table = std::vector<Item>>
 void expect_sorted_like_std_sort(const std::vector<std::int64_t>& ids, int max_bucket_bits) {
-  std::vector<Item> table;
+  Table table;
   std::size_t calls = 0;
   bool in_order = true;
   const rp::IdBuckets buckets = rp::sort_into_id_buckets(
@@ -117,6 +119,53 @@ TEST(IdBuckets, RunsOfConsecutiveIdsAndClusters) {
   }
   expect_sorted_like_std_sort(ids, 20);
   expect_sorted_like_std_sort(ids, 3);
+}
+
+/// An item with no default member initialisers, for a table whose pages are not written before
+/// the items are placed (the obstacles' node table).
+struct BareItem {
+  std::int64_t id;
+  std::uint32_t index;
+};
+
+TEST(IdBuckets, ManyBucketsSortedOnEveryCoreIntoAnUninitialisedTable) {
+  // 2^16 buckets of ~6 items each: the buckets are sorted in 16 blocks, shared by the threads.
+  std::mt19937_64 random(4);
+  std::vector<std::int64_t> ids;
+  std::uniform_int_distribution<std::int64_t> id(1'000'000, 1'000'000 + (std::int64_t{1} << 22));
+  for (int i = 0; i < 400'000; ++i) {
+    ids.push_back(id(random));
+    if (i % 5 == 0) ids.push_back(ids[random() % ids.size()]);
+  }
+  std::vector<BareItem, rp::UninitialisedAllocator<BareItem>> table;
+  const rp::IdBuckets buckets = rp::sort_into_id_buckets(
+      ids,
+      [&](std::size_t i) {
+        return BareItem{ids[i], static_cast<std::uint32_t>(i)};
+      },
+      [](const BareItem& x) { return x.id; }, table, 16);
+  ASSERT_EQ(buckets.begins.size(), (std::size_t{1} << 16) + 1);
+  std::vector<std::pair<std::int64_t, std::uint32_t>> want, got;
+  for (std::size_t i = 0; i < ids.size(); ++i) want.emplace_back(ids[i], i);
+  std::sort(want.begin(), want.end());
+  for (const BareItem& x : table) got.emplace_back(x.id, x.index);
+  ASSERT_EQ(got.size(), want.size());
+  for (std::size_t i = 0; i < got.size(); ++i) ASSERT_EQ(got[i].first, want[i].first) << i;
+  std::sort(got.begin(), got.end());
+  EXPECT_EQ(got, want);
+  // The same table again (each bucket sorted by one std::sort of the same items, whichever
+  // thread took it): item for item, those of one id too.
+  std::vector<BareItem, rp::UninitialisedAllocator<BareItem>> again;
+  rp::sort_into_id_buckets(
+      ids,
+      [&](std::size_t i) {
+        return BareItem{ids[i], static_cast<std::uint32_t>(i)};
+      },
+      [](const BareItem& x) { return x.id; }, again, 16);
+  ASSERT_EQ(again.size(), table.size());
+  for (std::size_t i = 0; i < table.size(); ++i) {
+    ASSERT_EQ(again[i].index, table[i].index) << i;
+  }
 }
 
 TEST(IdBuckets, TheWholeSigned64BitRange) {

@@ -178,7 +178,7 @@ void ObstacleReader::ways_done() {
 
 void ObstacleReader::nodes_done() {
   // The ids only served the lookup in node(): the segment table and the edges come next.
-  std::vector<NodeSlot>().swap(node_slots_);
+  decltype(node_slots_)().swap(node_slots_);
   buckets_ = IdBuckets();
 }
 

@@ -105,9 +105,10 @@ class ObstacleReader final : public ExtraOsmReader {
     std::uint32_t first_slot = 0;  ///< its header slot; its vertices follow
     float bottom_m = 0.0f, top_m = 0.0f;
   };
-  /// A node reference's slot, by node id (12 bytes, not 16).
+  /// A node reference's slot, by node id (12 bytes, not 16). No default member initialisers:
+  /// a table of them is allocated without writing its pages (they are all placed).
   struct NodeSlot {
-    std::uint32_t id_low = 0, id_high = 0, slot = 0;
+    std::uint32_t id_low, id_high, slot;
     std::int64_t id() const {
       return static_cast<std::int64_t>((std::uint64_t{id_high} << 32) | id_low);
     }
@@ -119,9 +120,10 @@ class ObstacleReader final : public ExtraOsmReader {
   const SightParameters& p_;
   ObstacleReport report_;
   std::vector<Way> ways_;
-  std::size_t cut_slots_ = 0;         ///< slots the cuts of long chains add (before the ways')
-  std::vector<std::int64_t> refs_;    ///< node ids of ways_ (first pass only)
-  std::vector<NodeSlot> node_slots_;  ///< sorted by id; node pass only
+  std::size_t cut_slots_ = 0;       ///< slots the cuts of long chains add (before the ways')
+  std::vector<std::int64_t> refs_;  ///< node ids of ways_ (first pass only)
+  std::vector<NodeSlot, UninitialisedAllocator<NodeSlot>> node_slots_;  ///< sorted by id; node pass
+                                                                        ///< only
   /// node_slots_' index: a node's look-up searches one bucket (at most 2^20 of them, 4 MB).
   IdBuckets buckets_;
   /// cut_slots_ free slots, then per way a header slot and per reference a Location's (x, y);
