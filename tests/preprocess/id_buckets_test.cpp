@@ -21,9 +21,8 @@ struct Item {
 
 /// Sorts `ids` with sort_into_id_buckets and checks the table against std::sort of (id, index)
 /// pairs, and every bucket against its definition.
-template <typename Table = std::vector<Item>>
 void expect_sorted_like_std_sort(const std::vector<std::int64_t>& ids, int max_bucket_bits) {
-  Table table;
+  std::vector<Item> table;
   std::size_t calls = 0;
   bool in_order = true;
   const rp::IdBuckets buckets = rp::sort_into_id_buckets(

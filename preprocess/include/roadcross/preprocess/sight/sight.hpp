@@ -122,8 +122,7 @@ class ObstacleReader final : public ExtraOsmReader {
   std::vector<Way> ways_;
   std::size_t cut_slots_ = 0;       ///< slots the cuts of long chains add (before the ways')
   std::vector<std::int64_t> refs_;  ///< node ids of ways_ (first pass only)
-  std::vector<NodeSlot, UninitialisedAllocator<NodeSlot>> node_slots_;  ///< sorted by id; node pass
-                                                                        ///< only
+  std::vector<NodeSlot, UninitialisedAllocator<NodeSlot>> node_slots_;  ///< by id; node pass
   /// node_slots_' index: a node's look-up searches one bucket (at most 2^20 of them, 4 MB).
   IdBuckets buckets_;
   /// cut_slots_ free slots, then per way a header slot and per reference a Location's (x, y);
